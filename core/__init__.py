@@ -1,0 +1,21 @@
+"""Paint Relief's painter: photographs to paintings with relief, after Huang, Fu and Li (2011).
+
+NumPy, SciPy and OpenImageIO only; never imports bpy. ``import core`` is
+light: the array modules load on first use of ``analyze``.
+"""
+
+from .errors import Cancelled, InputError, OutputError, PaintReliefError, ParameterError
+from .params import Params
+from .version import __version__
+
+__all__ = [
+    "__version__", "Params", "Analysis", "analyze",
+    "PaintReliefError", "InputError", "OutputError", "ParameterError", "Cancelled",
+]
+
+
+def __getattr__(name):
+    if name in ("Analysis", "analyze"):
+        from . import analysis
+        return getattr(analysis, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

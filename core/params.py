@@ -1,0 +1,143 @@
+"""Every parameter of the painter, with its default and meaning, in one place.
+
+Images are float32 (H, W, 3) sRGB in [0, 1]; lengths are pixels unless a
+name says otherwise; angles are radians. Thresholds the paper gives on the
+0-255 scale are divided by 255 here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Tuple
+
+from .errors import ParameterError
+
+CANVAS_COLOUR = (0.93, 0.90, 0.84)
+
+
+@dataclass(frozen=True)
+class Params:
+    """Parameters of analysis and painting. ``validate()`` checks every range."""
+
+    # --- reference image (bilateral filter, ALGORITHM §1.1) ---
+    bilateral_sigma_spatial: float = 0.005
+    """Spatial sigma as a fraction of the image diagonal (0.005 = 0.5 %)."""
+    bilateral_sigma_range: float = 0.1
+    """Range sigma in sRGB intensity units [0, 1]."""
+
+    # --- importance (ALGORITHM §1.2-1.4) ---
+    energy_percentile: float = 99.0
+    """Energy is divided by this percentile of itself, then clipped to [0, 1]."""
+    mask_strength: float = 1.0
+    """k in E' = E (1 + k mask) for a user importance mask."""
+
+    # --- partition (ALGORITHM §2, Eq. 2) ---
+    stroke_sizes: Tuple[int, ...] = (64, 32, 16, 8, 4)
+    """Standard brush widths in pixels for an image of ``size_reference_megapixels``."""
+    size_reference_megapixels: float = 1.0
+    """Stroke sizes scale with sqrt(pixels / this)."""
+    detail: float = 0.5
+    """0..1: how finely detailed areas are split. T_e = total energy * 10^-(2 + 3 detail)."""
+    partition_delta: float = 0.01 / 255.0
+    """delta of Eq. 2 on the [0, 1] energy scale (the paper's 0.01 on 0-255)."""
+    partition_gamma: float = 1.0
+    """gamma of Eq. 2: how strongly uneven area splits are penalised."""
+
+    # --- orientation (ALGORITHM §4, Eq. 3) ---
+    orientation_smoothing: float = 1.5
+    """Gaussian sigma (px, at 1 MP) of the structure tensor behind O_GN."""
+    key_cells: int = 40
+    """Key points: the strongest pixel of each cell of a key_cells x key_cells grid."""
+    key_threshold: float = 0.1
+    """Key points need normalised energy at least this."""
+    max_key_points: int = 2000
+    """At most this many key points feed the RBF fit."""
+    rbf_neighbors: int = 32
+    """Key points used for each RBF evaluation (local fit)."""
+    rbf_grid_step: int = 8
+    """The RBF is evaluated every this many pixels, then bilinearly upsampled."""
+
+    # --- strokes (ALGORITHM §3, §5, §6) ---
+    layers: int = 4
+    coverage_threshold: float = 0.5
+    """T_c: a grid whose least-covered pixel is below this gets a stroke there."""
+    difference_threshold: float = 0.1
+    """T_d: Euclidean RGB distance above which a grid gets a stroke at p_max."""
+    orientation_threshold: float = math.pi / 6
+    """T_o: a path stops where the orientation turns more than this from the anchor's."""
+    max_length: int = 8
+    """Control points of a curved stroke at most."""
+    brush: str = "flat"
+    """A shipped brush name (flat, round, filbert) or a path to a grayscale PNG."""
+    transparency: float = 0.9
+    """Bristle intensities are multiplied by this."""
+    bristle_alpha: float = 0.7
+    """alpha of Eq. 5: weight of each bristle's own sampled colour."""
+    perturbation: float = 0.03
+    """Amplitude of the per-stroke random colour perturbation."""
+    opacity_width: float = 0.9
+    """Width of the stroke opacity band as a fraction of the brush width."""
+    height_mode: str = "over"
+    """'over' (the paper's weighted sum) or 'accumulate' (paint piles up)."""
+    height_build: float = 0.5
+    """Per-stroke build factor in accumulate mode."""
+    canvas_colour: Tuple[float, float, float] = CANVAS_COLOUR
+    """sRGB colour of the bare canvas."""
+
+    # --- limits and randomness ---
+    max_megapixels: float = 50.0
+    """Inputs above this many megapixels are refused."""
+    seed: int = 0
+
+    def replace(self, **changes) -> "Params":
+        """A copy with some fields changed."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary of every field."""
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
+
+    def validate(self) -> "Params":
+        """Raise ParameterError (one sentence) for the first value out of range; return self."""
+        def need(ok: bool, text: str) -> None:
+            if not ok:
+                raise ParameterError(text)
+
+        need(len(self.stroke_sizes) > 0, "Stroke sizes must list at least one size.")
+        need(all(isinstance(s, (int, float)) and s > 0 for s in self.stroke_sizes),
+             f"Stroke sizes must all be positive, got {list(self.stroke_sizes)}.")
+        need(self.bilateral_sigma_spatial >= 0, "The bilateral spatial sigma must not be negative.")
+        need(self.bilateral_sigma_range > 0, "The bilateral range sigma must be positive.")
+        need(0 < self.energy_percentile <= 100, "The energy percentile must be in (0, 100].")
+        need(self.mask_strength >= -1, "The mask strength must be at least -1.")
+        need(0.0 <= self.detail <= 1.0, f"Detail must be between 0 and 1, got {self.detail}.")
+        need(self.partition_delta > 0, "The partition delta must be positive.")
+        need(self.partition_gamma >= 0, "The partition gamma must not be negative.")
+        need(self.size_reference_megapixels > 0, "The size reference megapixels must be positive.")
+        need(self.key_cells >= 1 and self.max_key_points >= 1 and self.rbf_neighbors >= 1 and self.rbf_grid_step >= 1,
+             "Orientation key-point settings must be at least 1.")
+        need(isinstance(self.layers, int) and 1 <= self.layers <= 16, f"Layers must be a whole number from 1 to 16, got {self.layers}.")
+        need(0.0 <= self.coverage_threshold <= 1.0, "The coverage threshold must be between 0 and 1.")
+        need(self.difference_threshold >= 0, "The difference threshold must not be negative.")
+        need(0 < self.orientation_threshold <= math.pi, "The orientation threshold must be in (0, pi].")
+        need(isinstance(self.max_length, int) and self.max_length >= 0, "The maximum stroke length must be a whole number >= 0.")
+        need(0.0 < self.transparency <= 1.0, f"The transparency factor must be in (0, 1], got {self.transparency}.")
+        need(0.0 <= self.bristle_alpha <= 1.0, f"Alpha must be between 0 and 1, got {self.bristle_alpha}.")
+        need(self.perturbation >= 0, "The colour perturbation must not be negative.")
+        need(0.0 < self.opacity_width <= 2.0, "The opacity width must be in (0, 2].")
+        need(self.height_mode in ("over", "accumulate"), f"Height mode must be 'over' or 'accumulate', got {self.height_mode!r}.")
+        need(self.height_build > 0, "The height build factor must be positive.")
+        need(len(self.canvas_colour) == 3 and all(0 <= c <= 1 for c in self.canvas_colour),
+             "The canvas colour must be three values between 0 and 1.")
+        need(self.max_megapixels > 0, "The pixel limit must be positive.")
+        need(isinstance(self.seed, int) and self.seed >= 0, "The seed must be a whole number >= 0.")
+        return self
+
+
+def scaled_sizes(params: Params, height: int, width: int) -> Tuple[int, ...]:
+    """Standard stroke sizes (px, descending, distinct, >= 2) scaled to an image of height x width."""
+    scale = math.sqrt(height * width / (params.size_reference_megapixels * 1e6))
+    sizes = sorted({max(2, int(round(s * scale))) for s in params.stroke_sizes}, reverse=True)
+    return tuple(sizes)
