@@ -9,7 +9,7 @@ SAMPLE ?= sample_scenes/coffee.png
 OUT    ?= out
 BPY_DIR     := $(VENV)/lib/python3.11/site-packages/bpy/5.0/scripts
 BLENDER_EXT := $(BPY_DIR)/addons_core/bl_pkg/cli/blender_ext.py
-VALID_TAGS  := $(BPY_DIR)/modules/_bpy_internal/extensions/tags.py
+VALID_TAGS   = $(abspath $(dir $(BLENDER_EXT))../../../modules/_bpy_internal/extensions/tags.py)
 DIST        ?= dist
 VERSION     := $(shell sed -n 's/^version *= *"\(.*\)"/\1/p' blender_manifest.toml)
 
