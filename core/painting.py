@@ -1,0 +1,123 @@
+"""The painter's entry point: ``paint(image, params) -> Painting`` (ALGORITHM §3, §5, §6)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from .analysis import Analysis, analyze
+from .brush import load_brush, tip_cache
+from .canvas import Canvas
+from .errors import InputError
+from .layout import choose_anchor, grid_order
+from .params import Params
+from .progress import CancelFn, ProgressFn, Stage
+from .stroke import Stroke, paint_stroke
+from .version import __version__
+
+
+@dataclass
+class Painting:
+    """A finished painting of an (H, W) image.
+
+    colour (H, W, 3) sRGB [0, 1]; height (H, W) >= 0 (1 = one full bristle's
+    contact); opacity and coverage (H, W) [0, 1]; orientation (H, W) radians
+    [0, pi); strokes in painting order; analysis the maps it was built on;
+    statistics the figures of ``report.json``.
+    """
+
+    colour: np.ndarray
+    height: np.ndarray
+    opacity: np.ndarray
+    coverage: np.ndarray
+    orientation: np.ndarray
+    strokes: List[Stroke]
+    analysis: Analysis
+    params: Params
+    statistics: Dict = field(default_factory=dict)
+
+
+def psnr(a: np.ndarray, b: np.ndarray) -> float:
+    """Peak signal-to-noise ratio (dB) of two [0, 1] images; inf when they are equal."""
+    mse = float(np.mean((np.asarray(a, np.float64) - np.asarray(b, np.float64)) ** 2))
+    return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
+
+
+def check_image(image: np.ndarray) -> np.ndarray:
+    """The image as float32 (H, W, 3) in [0, 1]; InputError for any other shape or non-finite values."""
+    a = np.asarray(image, dtype=np.float32)
+    if a.ndim != 3 or a.shape[2] != 3 or a.shape[0] < 1 or a.shape[1] < 1:
+        raise InputError(f"The image must be an (H, W, 3) array with H, W >= 1, got shape {a.shape}.")
+    if not np.all(np.isfinite(a)):
+        raise InputError("The image holds NaN or infinite values.")
+    return np.clip(a, 0.0, 1.0)
+
+
+def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
+          mask: Optional[np.ndarray] = None) -> Painting:
+    """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke.
+
+    progress(fraction, message) is called now and then; cancel() is polled
+    between strokes and raises Cancelled when it returns True.
+    """
+    params.validate()
+    image = check_image(image)
+    stage = Stage(progress, cancel)
+    brush = load_brush(params.brush)
+    analysis_stage = stage.sub(0.0, 0.15)
+    analysis = analyze(image, params, mask=mask, progress=analysis_stage.report if progress else None,
+                       cancel=cancel)
+    t0 = time.perf_counter()
+    canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
+    tips = tip_cache(brush, analysis.sizes, params.transparency)
+    strokes, per_layer = paint_layers(canvas, analysis, tips, params, stage.sub(0.15, 1.0))
+    seconds = dict(analysis.seconds)
+    seconds["strokes"] = time.perf_counter() - t0
+    statistics = {
+        "strokes": len(strokes),
+        "strokes_per_layer": per_layer,
+        "grids": int(len(analysis.grids)),
+        "psnr_db": round(psnr(canvas.colour, image), 3),
+        "seconds": {k: round(v, 4) for k, v in seconds.items()},
+        "width": int(image.shape[1]),
+        "height": int(image.shape[0]),
+        "height_mode": params.height_mode,
+        "seed": params.seed,
+        "version": __version__,
+    }
+    stage.report(1.0, f"Painted {len(strokes)} strokes")
+    return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
+                    strokes, analysis, params, statistics)
+
+
+def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, params: Params, stage: Stage) -> tuple:
+    """Run every layer over every grid (largest first); returns (strokes, strokes per layer)."""
+    rng = np.random.default_rng(params.seed)
+    order = grid_order(analysis.grids)
+    grids = analysis.grids[order].tolist()
+    sizes = analysis.grid_sizes[order].tolist()
+    strokes: List[Stroke] = []
+    per_layer: List[int] = []
+    total = params.layers * len(grids)
+    done = 0
+    last_report = time.monotonic()
+    for layer in range(params.layers):
+        count = 0
+        for grid, size in zip(grids, sizes):
+            done += 1
+            anchor = choose_anchor(grid, canvas.coverage, canvas.colour, analysis.reference,
+                                   params.coverage_threshold, params.difference_threshold)
+            if anchor is not None:
+                strokes.append(paint_stroke(canvas, analysis.reference, analysis.orientation, anchor, size,
+                                            layer, tips[size], rng, params))
+                count += 1
+            stage.check()
+            if time.monotonic() - last_report > 0.1:
+                last_report = time.monotonic()
+                stage.report(done / total, f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
+        per_layer.append(count)
+    return strokes, per_layer
