@@ -61,13 +61,35 @@ def build_parser() -> argparse.ArgumentParser:
         description="Write reference.png, importance.exr/.png, partition.png, orientation.png and analysis.json.")
     _add_analysis_options(analyze_p)
     analyze_p.set_defaults(run=run_analyze)
+
+    paint_p = sub.add_parser(
+        "paint", help="paint a photograph stroke by stroke and write its relief maps",
+        description="Write color.exr (scene-linear RGB), height.exr, opacity.exr, painting.png, "
+                    "strokes.json and report.json.")
+    _add_analysis_options(paint_p)
+    paint_p.add_argument("--layers", type=int, default=DEFAULTS.layers, metavar="N",
+                         help="layers of strokes, each one pass over all grids (default: %(default)s)")
+    paint_p.add_argument("--brush", default=DEFAULTS.brush, metavar="flat|round|filbert|PATH",
+                         help="a shipped brush or a grayscale PNG brush map, wide side across "
+                              "(default: %(default)s)")
+    paint_p.add_argument("--height-mode", choices=("over", "accumulate"), default=DEFAULTS.height_mode,
+                         help="'over': each stroke's height covers what is below (the paper); "
+                              "'accumulate': paint piles up (default: %(default)s)")
+    paint_p.add_argument("--alpha", type=float, default=DEFAULTS.bristle_alpha, metavar="A",
+                         help="weight of each bristle's own colour in Eq. 5 (default: %(default)s)")
+    paint_p.set_defaults(run=run_paint)
     return parser
 
 
 def params_from_args(args: argparse.Namespace) -> Params:
-    """Params from parsed options, validated."""
-    return Params(stroke_sizes=tuple(args.sizes), detail=args.detail, mask_strength=args.mask_strength,
-                  seed=args.seed, max_megapixels=args.max_megapixels).validate()
+    """Params from parsed options (those the subcommand has), validated."""
+    fields = {"stroke_sizes": tuple(args.sizes), "detail": args.detail, "mask_strength": args.mask_strength,
+              "seed": args.seed, "max_megapixels": args.max_megapixels}
+    for option, name in (("layers", "layers"), ("brush", "brush"), ("height_mode", "height_mode"),
+                         ("alpha", "bristle_alpha")):
+        if hasattr(args, option):
+            fields[name] = getattr(args, option)
+    return Params(**fields).validate()
 
 
 def run_analyze(args: argparse.Namespace, progress) -> None:
@@ -79,6 +101,20 @@ def run_analyze(args: argparse.Namespace, progress) -> None:
     analysis = analyze(image, params, mask=mask, progress=progress)
     with staged_outputs(out) as staging:
         write_analysis(staging, analysis, params, args.input)
+
+
+def run_paint(args: argparse.Namespace, progress) -> None:
+    """The ``paint`` subcommand."""
+    from .export import write_painting
+    from .painting import paint
+
+    params = params_from_args(args)
+    out = io.ensure_output_dir(args.output)
+    image = io.read_image(args.input, params.max_megapixels, params.canvas_colour)
+    mask = io.read_gray(args.mask, params.max_megapixels) if args.mask else None
+    painting = paint(image, params, progress=progress, mask=mask)
+    with staged_outputs(out) as staging:
+        write_painting(staging, painting, args.input)
 
 
 def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -> None:

@@ -431,14 +431,15 @@ def _json_default(value):
     raise TypeError(f"Object of type {type(value).__name__} is not JSON serialisable")
 
 
-def write_json(path: PathLike, obj) -> None:
-    """Write ``obj`` as indented JSON (indent 2, keys in given order, final newline), atomically.
+def write_json(path: PathLike, obj, indent: Optional[int] = 2) -> None:
+    """Write ``obj`` as JSON (``indent`` spaces, None for compact; keys in given order; final newline), atomically.
 
     NumPy scalars and arrays and paths are converted to plain JSON values.
     Failures to write raise OutputError naming the file.
     """
     path = pathlib.Path(path)
-    text = json.dumps(obj, indent=2, sort_keys=False, default=_json_default) + "\n"
+    separators = None if indent is not None else (",", ":")
+    text = json.dumps(obj, indent=indent, separators=separators, sort_keys=False, default=_json_default) + "\n"
     with atomic_path(path) as temp:
         try:
             temp.write_text(text, encoding="utf-8")

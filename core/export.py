@@ -1,0 +1,51 @@
+"""Writing a painting to a folder: relief maps as EXR, a preview, the strokes and a report."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import io
+from .colour import srgb_to_linear
+from .painting import Painting
+from .version import __version__
+
+
+def map_attributes(painting: Painting) -> dict:
+    """EXR header attributes that say how a painting was made."""
+    return {
+        "paint_relief:version": __version__,
+        "paint_relief:seed": painting.params.seed,
+        "paint_relief:height_mode": painting.params.height_mode,
+        "paint_relief:params": json.dumps(painting.params.to_dict(), sort_keys=True),
+    }
+
+
+def write_painting(folder: Path, painting: Painting, source: str) -> dict:
+    """Write the painting's files into ``folder``; returns the report written as report.json.
+
+    color.exr    RGB, scene-linear Rec.709 (the sRGB painting converted)
+    height.exr   Y, paint height (1 = one full bristle's contact)
+    opacity.exr  Y, stroke opacity in [0, 1]
+    painting.png the painting, 8-bit sRGB
+    strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
+    report.json  figures of the run
+    """
+    folder = Path(folder)
+    t0 = time.perf_counter()
+    attributes = map_attributes(painting)
+    io.write_exr(folder / "color.exr", srgb_to_linear(painting.colour), attributes=attributes)
+    io.write_exr(folder / "height.exr", painting.height, channels=("Y",), attributes=attributes)
+    io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), attributes=attributes)
+    io.write_png(folder / "painting.png", painting.colour)
+    io.write_json(folder / "strokes.json", {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
+                  indent=None)
+    report = dict(painting.statistics)
+    report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
+    report.update({"input": str(source), "params": painting.params.to_dict(),
+                   "height_range": [float(np.min(painting.height)), float(np.max(painting.height))]})
+    io.write_json(folder / "report.json", report)
+    return report
