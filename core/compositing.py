@@ -86,8 +86,11 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     stamp = contribution // n_bristles
     bristle = contribution - stamp * n_bristles
 
-    starts = np.flatnonzero(np.r_[True, pixel[1:] != pixel[:-1]])
-    ends = np.r_[starts[1:], len(pixel)]
+    new_pixel = np.empty(len(pixel), dtype=bool)
+    new_pixel[0] = True
+    np.not_equal(pixel[1:], pixel[:-1], out=new_pixel[1:])
+    starts = np.flatnonzero(new_pixel)
+    ends = np.append(starts[1:], len(pixel))
     counts = ends - starts
 
     strength = np.minimum(intensity[bristle].astype(np.float64), MAX_INTENSITY)
@@ -97,7 +100,7 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     after = np.exp(segment_total_cum - cumulative)          # prod over later contributions of (1 - I)
     weight = strength * after
     paint = np.add.reduceat(weight[:, None] * colours[bristle], starts, axis=0)
-    before_start = np.r_[0.0, cumulative][starts]
+    before_start = cumulative[starts] - log_keep[starts]
     transmittance = np.exp(cumulative[ends - 1] - before_start)
     height = (np.add.reduceat(strength, starts) / counts).astype(np.float32)
 

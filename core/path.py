@@ -56,27 +56,40 @@ def trace_control_points(anchor: tuple, orientation: np.ndarray, step: float, ma
     return np.array(points, dtype=np.float64), len(backward)
 
 
+_BASIS_CACHE: dict = {}
+
+
+def catmull_rom_basis(n: int) -> np.ndarray:
+    """(n, 4) uniform Catmull-Rom weights of P0..P3 at t = 0, 1/n, ..., (n-1)/n."""
+    basis = _BASIS_CACHE.get(n)
+    if basis is None:
+        t = np.arange(n, dtype=np.float64)[:, None] / n
+        t2, t3 = t * t, t * t * t
+        basis = 0.5 * np.hstack([-t + 2 * t2 - t3, 2 - 5 * t2 + 3 * t3, t + 4 * t2 - 3 * t3, -t2 + t3])
+        _BASIS_CACHE[n] = basis
+    return basis
+
+
 def catmull_rom(points: np.ndarray, spacing: float = 1.0) -> tuple:
     """Sample a uniform Catmull-Rom curve through ``points`` about every ``spacing`` px.
 
-    points: (K, 2) float. Returns (samples (N, 2) float64, index of each
-    control point among the samples (K,) int). Every control point is a
-    sample; a single point gives a single sample.
+    points: (K, 2) float. Every segment gets the same number of samples,
+    enough for its longest one (control points from trace_control_points are
+    equally spaced). Returns (samples (N, 2) float64, index of each control
+    point among the samples (K,) int). Every control point is a sample; a
+    single point gives a single sample.
     """
     k = len(points)
     if k == 1:
         return points.copy(), np.zeros(1, dtype=np.int64)
-    padded = np.vstack([2 * points[0] - points[1], points, 2 * points[-1] - points[-2]])
-    seg_len = np.linalg.norm(np.diff(points, axis=0), axis=1)
-    counts = np.maximum(1, np.ceil(seg_len / spacing).astype(np.int64))
-    seg = np.repeat(np.arange(k - 1), counts)
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    t = ((np.arange(counts.sum()) - np.repeat(starts, counts)) / np.repeat(counts, counts))[:, None]
-    p0, p1, p2, p3 = padded[seg], padded[seg + 1], padded[seg + 2], padded[seg + 3]
-    t2, t3 = t * t, t * t * t
-    samples = 0.5 * ((2 * p1) + (p2 - p0) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 + (3 * p1 - p0 - 3 * p2 + p3) * t3)
-    samples = np.vstack([samples, points[-1:]])
-    control_index = np.concatenate([starts, [len(samples) - 1]])
+    padded = np.concatenate(([2 * points[0] - points[1]], points, [2 * points[-1] - points[-2]]))
+    step = points[1:] - points[:-1]
+    longest = float(np.sqrt(np.max(step[:, 0] ** 2 + step[:, 1] ** 2)))
+    n = max(1, int(math.ceil(longest / spacing)))
+    windows = np.stack([padded[0:k - 1], padded[1:k], padded[2:k + 1], padded[3:k + 2]], axis=1)  # (K-1, 4, 2)
+    samples = np.matmul(catmull_rom_basis(n)[None], windows).reshape(-1, 2)
+    samples = np.concatenate((samples, points[-1:]))
+    control_index = np.arange(k, dtype=np.int64) * n
     return samples, control_index
 
 
@@ -84,7 +97,10 @@ def tangent_angles(samples: np.ndarray, fallback: float) -> np.ndarray:
     """(N,) direction of travel (radians) at each of (N, 2) samples; ``fallback`` for a single point."""
     if len(samples) < 2:
         return np.full(len(samples), fallback, dtype=np.float64)
-    d = np.gradient(samples, axis=0)
+    d = np.empty_like(samples)
+    d[1:-1] = samples[2:] - samples[:-2]
+    d[0] = samples[1] - samples[0]
+    d[-1] = samples[-1] - samples[-2]
     return np.arctan2(d[:, 1], d[:, 0])
 
 

@@ -34,12 +34,12 @@ class Stroke:
                 "path": np.round(self.path, 2).tolist(), "colour": np.round(self.colour, 4).tolist()}
 
 
-def sample_nearest(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Values of (H, W[, C]) ``image`` at the pixels nearest float positions x, y (clamped to the canvas)."""
-    h, w = image.shape[:2]
-    ix = np.clip(np.floor(x + 0.5), 0, w - 1).astype(np.intp)
-    iy = np.clip(np.floor(y + 0.5), 0, h - 1).astype(np.intp)
-    return image[iy, ix]
+def nearest_pixels(shape: tuple, x: np.ndarray, y: np.ndarray) -> tuple:
+    """(rows, columns) int arrays of the pixels nearest float positions x, y, clamped to an (H, W) canvas."""
+    h, w = shape[:2]
+    ix = np.minimum(np.maximum(np.floor(x + 0.5), 0), w - 1).astype(np.intp)
+    iy = np.minimum(np.maximum(np.floor(y + 0.5), 0), h - 1).astype(np.intp)
+    return iy, ix
 
 
 def bristle_colours(reference: np.ndarray, anchor: tuple, angle: float, tip: BrushTip, alpha: float,
@@ -53,9 +53,10 @@ def bristle_colours(reference: np.ndarray, anchor: tuple, angle: float, tip: Bru
     c, s = np.cos(angle), np.sin(angle)
     x = anchor[0] + tip.along * c - tip.across * s
     y = anchor[1] + tip.along * s + tip.across * c
-    under = sample_nearest(reference, x, y)
+    under = reference[nearest_pixels(reference.shape, x, y)]
     at_anchor = reference[anchor[1], anchor[0]]
-    return np.clip(alpha * under + (1.0 - alpha) * at_anchor + perturbation, 0.0, 1.0).astype(np.float32)
+    mixed = alpha * under + ((1.0 - alpha) * at_anchor + perturbation)
+    return np.minimum(np.maximum(mixed, 0.0), 1.0).astype(np.float32)
 
 
 def keep_mask(samples: np.ndarray, reference: np.ndarray, canvas_colour: np.ndarray, orientation: np.ndarray,
@@ -66,9 +67,10 @@ def keep_mask(samples: np.ndarray, reference: np.ndarray, canvas_colour: np.ndar
     than the brush colour would, |ref - canvas| < |ref - brush|, or (b) the
     orientation field turns more than ``max_turn`` from the anchor's angle.
     """
-    ref = sample_nearest(reference, samples[:, 0], samples[:, 1])
-    can = sample_nearest(canvas_colour, samples[:, 0], samples[:, 1])
-    theta = sample_nearest(orientation, samples[:, 0], samples[:, 1])
+    at = nearest_pixels(reference.shape, samples[:, 0], samples[:, 1])
+    ref = reference[at]
+    can = canvas_colour[at]
+    theta = orientation[at]
     closer = np.sum((ref - can) ** 2, axis=1) < np.sum((ref - brush_colour) ** 2, axis=1)
     turned = axial_difference(theta, anchor_angle) > max_turn
     return ~(closer | turned)
@@ -94,5 +96,5 @@ def paint_stroke(canvas: Canvas, reference: np.ndarray, orientation: np.ndarray,
 
     first = start_index - kept_anchor
     inner = control_index[(control_index > first) & (control_index < first + len(kept) - 1)] - first
-    path = kept[np.unique(np.r_[0, inner, len(kept) - 1])].astype(np.float32)
+    path = kept[np.unique(np.concatenate(([0], inner, [len(kept) - 1])))].astype(np.float32)
     return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), path, reference[anchor[1], anchor[0]].copy())
