@@ -28,10 +28,12 @@ test: $(STAMP)
 demo: $(STAMP)
 	@mkdir -p $(OUT)
 	$(PY) -m core analyze $(SAMPLE) -o $(OUT)/analysis
-	@echo "Demo outputs are in $(OUT)/"
+	$(PY) -m core paint $(SAMPLE) -o $(OUT)/painting
+	@echo "Demo outputs are in $(OUT)/: analysis/ (importance, partition, orientation), painting/ (maps, preview, report)"
 
 bench: $(STAMP)
 	$(PY) bench/analysis.py
+	$(PY) bench/paint.py
 
 extension: $(STAMP)
 	@mkdir -p $(DIST)
