@@ -9,7 +9,7 @@ from .params import Params
 from .version import __version__
 
 __all__ = [
-    "__version__", "Params", "Analysis", "analyze",
+    "__version__", "Params", "Analysis", "analyze", "Painting", "paint", "paint_file",
     "PaintReliefError", "InputError", "OutputError", "ParameterError", "Cancelled",
 ]
 
@@ -18,4 +18,10 @@ def __getattr__(name):
     if name in ("Analysis", "analyze"):
         from . import analysis
         return getattr(analysis, name)
+    if name in ("Painting", "paint"):
+        from . import painting
+        return getattr(painting, name)
+    if name == "paint_file":
+        from .api import paint_file
+        return paint_file
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -105,16 +105,9 @@ def run_analyze(args: argparse.Namespace, progress) -> None:
 
 def run_paint(args: argparse.Namespace, progress) -> None:
     """The ``paint`` subcommand."""
-    from .export import write_painting
-    from .painting import paint
+    from .api import paint_file
 
-    params = params_from_args(args)
-    out = io.ensure_output_dir(args.output)
-    image = io.read_image(args.input, params.max_megapixels, params.canvas_colour)
-    mask = io.read_gray(args.mask, params.max_megapixels) if args.mask else None
-    painting = paint(image, params, progress=progress, mask=mask)
-    with staged_outputs(out) as staging:
-        write_painting(staging, painting, args.input)
+    paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask)
 
 
 def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -> None:
