@@ -30,6 +30,7 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     color.exr    RGB, scene-linear Rec.709 (the sRGB painting converted)
     height.exr   Y, paint height (1 = one full bristle's contact)
     opacity.exr  Y, stroke opacity in [0, 1]
+    orientation.exr  Y, stroke direction in radians [0, pi) (the paper's lighting needs it)
     painting.png the painting, 8-bit sRGB
     strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
     report.json  figures of the run
@@ -40,6 +41,7 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     io.write_exr(folder / "color.exr", srgb_to_linear(painting.colour), attributes=attributes)
     io.write_exr(folder / "height.exr", painting.height, channels=("Y",), attributes=attributes)
     io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), attributes=attributes)
+    io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), attributes=attributes)
     io.write_png(folder / "painting.png", painting.colour)
     io.write_json(folder / "strokes.json", {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
                   indent=None)
