@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
@@ -14,6 +13,7 @@ from .brush import load_brush, tip_cache
 from .canvas import Canvas
 from .errors import InputError
 from .layout import choose_anchor, grid_order
+from .metrics import psnr
 from .params import Params
 from .progress import CancelFn, ProgressFn, Stage
 from .stroke import Stroke, paint_stroke
@@ -39,12 +39,6 @@ class Painting:
     analysis: Analysis
     params: Params
     statistics: Dict = field(default_factory=dict)
-
-
-def psnr(a: np.ndarray, b: np.ndarray) -> float:
-    """Peak signal-to-noise ratio (dB) of two [0, 1] images; inf when they are equal."""
-    mse = float(np.mean((np.asarray(a, np.float64) - np.asarray(b, np.float64)) ** 2))
-    return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
 
 
 def check_image(image: np.ndarray) -> np.ndarray:
