@@ -1,0 +1,492 @@
+"""Tests of the stroke engine: Eq. 4 compositing, strokes, paths, layout, relief maps, the whole painter.
+
+Expected values are worked out by hand in each test from ALGORITHM §3, §5 and
+§6 (not by calling the code under test a second way).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+from core.brush import BrushTip, brush_tip, load_brush
+from core.canvas import Canvas
+from core.compositing import stroke_footprint
+from core.errors import PaintReliefError, ParameterError
+from core.io import read_image
+from core.layout import choose_anchor
+from core.painting import paint
+from core.params import CANVAS_COLOUR, Params
+from core.stroke import paint_stroke
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+C0 = np.array(CANVAS_COLOUR, dtype=np.float64)
+
+
+# ---------------------------------------------------------------------------
+# small shared helpers
+
+
+def make_tip(bristles) -> BrushTip:
+    """A hand-made tip from [(along, across, intensity), ...]."""
+    b = np.array(bristles, dtype=np.float32)
+    return BrushTip(b[:, 0].copy(), b[:, 1].copy(), b[:, 2].copy(), 3.0, 3.0)
+
+
+def write_png(path, pixels: np.ndarray) -> None:
+    """Write float (H, W) values in [0, 1] as an 8-bit gray PNG with OpenImageIO."""
+    data = np.clip(np.round(np.asarray(pixels, np.float64) * 255), 0, 255).astype(np.uint8)[:, :, None]
+    spec = oiio.ImageSpec(data.shape[1], data.shape[0], 1, "uint8")
+    out = oiio.ImageOutput.create(str(path))
+    assert out is not None and out.open(str(path), spec), oiio.geterror()
+    assert out.write_image(np.ascontiguousarray(data))
+    out.close()
+
+
+def one_sentence(message: str) -> bool:
+    """One sentence: ends with a full stop, no line break."""
+    return message.endswith(".") and "\n" not in message and len(message) > 10
+
+
+@pytest.fixture(scope="module")
+def flat():
+    return load_brush("flat")
+
+
+def straight_samples(x0: int, x1: int, y: int) -> tuple:
+    """Integer path samples from x0 to x1 (inclusive) along row y, angle 0."""
+    xs = np.arange(x0, x1 + 1, dtype=np.float64)
+    samples = np.stack([xs, np.full_like(xs, y)], axis=1)
+    return samples, np.zeros(len(xs))
+
+
+def stripes_reference(h: int, w: int, palette: np.ndarray, period: int) -> np.ndarray:
+    """Horizontal stripes: the colour changes with the row (across a horizontal stroke)."""
+    idx = (np.arange(h) // period) % len(palette)
+    return np.ascontiguousarray(np.repeat(palette[idx][:, None, :], w, axis=1).astype(np.float32))
+
+
+# ---------------------------------------------------------------------------
+# 1. Eq. 4 for one stamp and for two stamps over one pixel
+
+
+def test_eq4_single_stamp_by_hand():
+    # one sample at (x=5, y=5), angle 0: along = +x, across = +y.
+    samples = np.array([[5.0, 5.0]])
+    angles = np.array([0.0])
+    along = np.array([0.0, 2.0, 0.0], np.float32)
+    across = np.array([0.0, 0.0, -2.0], np.float32)
+    inten = np.array([0.8, 0.5, 0.3], np.float32)
+    colours = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.2, 0.4, 0.9]], np.float32)
+    canvas_rgb = np.array([0.5, 0.25, 0.75])
+    canvas = Canvas.blank((9, 10), canvas_rgb)
+    fp = stroke_footprint(samples, angles, along, across, inten, colours, (9, 10))
+    canvas.apply(fp, 100.0, "over", 0.5)
+
+    expected = {  # (x, y): I * C_b + (1 - I) * C_canvas, by hand
+        (5, 5): (0.8 * 1.0 + 0.2 * 0.5, 0.8 * 0.0 + 0.2 * 0.25, 0.8 * 0.0 + 0.2 * 0.75),
+        (7, 5): (0.5 * 0.0 + 0.5 * 0.5, 0.5 * 1.0 + 0.5 * 0.25, 0.5 * 0.0 + 0.5 * 0.75),
+        (5, 3): (0.3 * 0.2 + 0.7 * 0.5, 0.3 * 0.4 + 0.7 * 0.25, 0.3 * 0.9 + 0.7 * 0.75),
+    }
+    hit = np.zeros((9, 10), bool)
+    for (x, y), rgb in expected.items():
+        np.testing.assert_allclose(canvas.colour[y, x], rgb, atol=1e-5)
+        hit[y, x] = True
+    # nothing else changed
+    np.testing.assert_array_equal(canvas.colour[~hit], np.broadcast_to(canvas_rgb.astype(np.float32), (int((~hit).sum()), 3)))
+    # coverage: 1 - (1 - I) with one bristle per pixel; 0 elsewhere
+    np.testing.assert_allclose([canvas.coverage[5, 5], canvas.coverage[5, 7], canvas.coverage[3, 5]],
+                               [0.8, 0.5, 0.3], atol=1e-5)
+    assert np.all(canvas.coverage[~hit] == 0)
+    # wide band: o = 1 everywhere painted, so the height is the bristle intensity
+    np.testing.assert_allclose([canvas.height[5, 5], canvas.height[5, 7], canvas.height[3, 5]],
+                               [0.8, 0.5, 0.3], atol=1e-5)
+
+
+def test_eq4_two_stamps_fold_later_on_top():
+    # stamp 0 at x=5 puts bristle A (along 0) on pixel (5, 5);
+    # stamp 1 at x=6 puts bristle B (along -1) on the same pixel, later.
+    samples = np.array([[5.0, 5.0], [6.0, 5.0]])
+    angles = np.zeros(2)
+    along = np.array([0.0, -1.0], np.float32)
+    across = np.zeros(2, np.float32)
+    inten = np.array([0.6, 0.5], np.float32)
+    a = np.array([1.0, 0.0, 0.0])
+    b = np.array([0.0, 0.0, 1.0])
+    colours = np.array([a, b], np.float32)
+    canvas = Canvas.blank((11, 11), C0)
+    fp = stroke_footprint(samples, angles, along, across, inten, colours, (11, 11))
+    canvas.apply(fp, 100.0, "over", 0.5)
+
+    first = 0.6 * a + 0.4 * C0                     # stamp 0
+    later_on_top = 0.5 * b + 0.5 * first           # stamp 1 over it
+    wrong_order = 0.6 * a + 0.4 * (0.5 * b + 0.5 * C0)
+    assert np.abs(later_on_top - wrong_order).max() > 0.1  # the order is visible
+    np.testing.assert_allclose(canvas.colour[5, 5], later_on_top, atol=1e-5)
+    # the other pixels: only one contribution each
+    np.testing.assert_allclose(canvas.colour[5, 4], 0.5 * b + 0.5 * C0, atol=1e-5)   # stamp 0, bristle B
+    np.testing.assert_allclose(canvas.colour[5, 6], 0.6 * a + 0.4 * C0, atol=1e-5)   # stamp 1, bristle A
+    assert canvas.coverage[5, 5] == pytest.approx(1 - 0.4 * 0.5, abs=1e-5)
+    # height: mean intensity of the stamps that covered the pixel
+    assert canvas.height[5, 5] == pytest.approx((0.6 + 0.5) / 2, abs=1e-5)
+
+
+def test_stamp_opacity_band_and_height_weighting():
+    # band 2 px wide: o = 1 at the path, 0.5 at 1 px, 0 at 2 px (1 px ramp centred on width / 2)
+    samples = np.array([[5.0, 5.0]])
+    along = np.array([0.0, 1.0, 0.0], np.float32)
+    across = np.array([0.0, 0.0, -2.0], np.float32)
+    inten = np.array([0.8, 0.6, 0.4], np.float32)
+    colours = np.ones((3, 3), np.float32)
+    canvas = Canvas.blank((10, 10), C0)
+    canvas.height[...] = 0.2
+    canvas.opacity[...] = 0.5
+    fp = stroke_footprint(samples, np.zeros(1), along, across, inten, colours, (10, 10))
+    canvas.apply(fp, 2.0, "over", 0.5)
+    # H = o h + (1 - o) H, A = o + (1 - o) A
+    assert canvas.height[5, 5] == pytest.approx(1.0 * 0.8, abs=1e-5)
+    assert canvas.height[5, 6] == pytest.approx(0.5 * 0.6 + 0.5 * 0.2, abs=1e-5)
+    assert canvas.height[3, 5] == pytest.approx(0.2, abs=1e-5)
+    assert canvas.opacity[5, 5] == pytest.approx(1.0, abs=1e-6)
+    assert canvas.opacity[5, 6] == pytest.approx(0.5 + 0.5 * 0.5, abs=1e-5)
+    assert canvas.opacity[3, 5] == pytest.approx(0.5, abs=1e-6)
+    assert canvas.height[0, 0] == pytest.approx(0.2) and canvas.opacity[0, 0] == pytest.approx(0.5)
+
+
+# ---------------------------------------------------------------------------
+# 2. One stroke: streaks of bristle colours, coverage
+
+
+PALETTE = np.array([[0.8, 0.1, 0.1], [0.1, 0.6, 0.1], [0.1, 0.1, 0.8], [0.2, 0.2, 0.2]], np.float32)
+
+
+def paint_one(reference, orientation, anchor, size, brush_map, params=None, canvas=None, seed=0):
+    params = params or Params()
+    canvas = canvas or Canvas.blank(reference.shape[:2], params.canvas_colour)
+    tip = brush_tip(brush_map, size, params.transparency)
+    stroke = paint_stroke(canvas, reference, orientation, anchor, size, 0, tip, np.random.default_rng(seed), params)
+    return canvas, stroke, tip
+
+
+def test_stroke_streaks_and_coverage(flat):
+    h, w, size = 80, 200, 32
+    ref = stripes_reference(h, w, PALETTE, 4)
+    ori = np.zeros((h, w), np.float32)
+    canvas, stroke, _ = paint_one(ref, ori, (100, 40), size, flat)
+    # the stroke runs horizontally, well beyond one brush length
+    assert stroke.path[:, 0].min() < 100 - size and stroke.path[:, 0].max() > 100 + size
+    np.testing.assert_allclose(stroke.path[:, 1], 40, atol=1e-3)
+
+    half = int(0.35 * size)
+    band = canvas.colour[40 - half:40 + half + 1, 100 - size:100 + size].astype(np.float64)
+    # several distinct bristle colours across the stroke: nearest palette colour of each row
+    cut = band[:, band.shape[1] // 2]
+    labels = np.argmin(((cut[:, None, :] - PALETTE[None, :, :]) ** 2).sum(axis=2), axis=1)
+    assert len(set(labels.tolist())) >= 3
+    assert np.linalg.norm(cut.max(axis=0) - cut.min(axis=0)) > 0.3
+    # streaks: colour nearly constant along each row, varying across the stroke
+    along_std = band.std(axis=1).mean()
+    across_std = band.std(axis=0).mean()
+    assert along_std < 0.02
+    assert across_std > 5 * along_std
+    # coverage near 1 under the stroke's central band
+    assert canvas.coverage[40 - half:40 + half + 1, 100 - size:100 + size].min() >= 0.9
+    # and 0 far away
+    assert np.all(canvas.coverage[:40 - size, :] == 0) and np.all(canvas.coverage[40 + size:, :] == 0)
+
+
+def test_single_stamp_stroke_eq5_and_coverage_by_hand():
+    # max_length = 0: the path is the anchor alone, so one stamp; orientation pi/2 (stroke runs down):
+    # bristle (along a, across c) lands at (x - c, y + a) (d = (0, 1), n = (-1, 0)).
+    h, w = 20, 20
+    rng = np.random.default_rng(3)
+    ref = rng.uniform(0.0, 1.0, (h, w, 3)).astype(np.float32)
+    ori = np.full((h, w), np.pi / 2, np.float32)
+    tip = make_tip([(0.0, 0.0, 0.7), (2.0, 0.0, 0.5), (0.0, 3.0, 0.25)])
+    params = Params(max_length=0, perturbation=0.0, bristle_alpha=0.7)
+    canvas = Canvas.blank((h, w), C0)
+    ax, ay = 9, 8
+    stroke = paint_stroke(canvas, ref, ori, (ax, ay), 3, 0, tip, np.random.default_rng(0), params)
+    assert stroke.anchor == (ax, ay)
+    pixels = [(ax, ay, 0.7), (ax, ay + 2, 0.5), (ax - 3, ay, 0.25)]
+    anchor_rgb = ref[ay, ax].astype(np.float64)
+    for x, y, i in pixels:
+        c_b = 0.7 * ref[y, x] + 0.3 * anchor_rgb                      # Eq. 5, no perturbation
+        np.testing.assert_allclose(canvas.colour[y, x], i * c_b + (1 - i) * C0, atol=1e-5)   # Eq. 4
+        assert canvas.coverage[y, x] == pytest.approx(i, abs=1e-5)
+    assert np.count_nonzero(canvas.coverage) == 3
+    # the same stroke again: coverage = 1 - (1 - I)^2
+    paint_stroke(canvas, ref, ori, (ax, ay), 3, 0, tip, np.random.default_rng(0), params)
+    for x, y, i in pixels:
+        assert canvas.coverage[y, x] == pytest.approx(1 - (1 - i) ** 2, abs=1e-5)
+
+
+# ---------------------------------------------------------------------------
+# 3. height range and zero where no paint fell
+
+
+def test_stroke_height_range_and_zero_outside(flat):
+    h, w = 80, 200
+    ref = stripes_reference(h, w, PALETTE, 4)
+    ori = np.zeros((h, w), np.float32)
+    canvas, _, _ = paint_one(ref, ori, (100, 40), 24, flat, params=Params(height_mode="over"))
+    height = canvas.height
+    assert height.min() >= 0.0 and height.max() <= 1.0
+    untouched = np.all(canvas.colour == np.float32(C0), axis=2) & (canvas.coverage == 0)
+    assert untouched.sum() > 0.5 * h * w
+    assert np.all(height[untouched] == 0.0)
+    assert np.all(height[canvas.coverage == 0] == 0.0)
+    assert height[40, 80:120].min() > 0.2  # paint on the path has height
+
+
+# ---------------------------------------------------------------------------
+# 4. opacity band about 0.9 W wide
+
+
+@pytest.mark.parametrize("size", [16, 32])
+def test_opacity_band_width(flat, size):
+    h, w = 90, 220
+    ref = np.empty((h, w, 3), np.float32)
+    ref[...] = (0.2, 0.3, 0.5)
+    ori = np.zeros((h, w), np.float32)
+    canvas, stroke, _ = paint_one(ref, ori, (110, 45), size, flat)
+    assert stroke.path[:, 0].min() < 110 - size and stroke.path[:, 0].max() > 110 + size
+    for x in (105, 110, 115):
+        width = int(np.count_nonzero(canvas.opacity[:, x] >= 0.5))
+        assert abs(width - 0.9 * size) <= 1.5, (x, width)
+
+
+# ---------------------------------------------------------------------------
+# 5. the path stops at an edge (rules (a) and (b))
+
+
+RED = np.array([0.85, 0.1, 0.1], np.float32)
+BLUE = np.array([0.05, 0.05, 0.6], np.float32)
+
+
+@pytest.mark.parametrize("size", [16, 32])
+@pytest.mark.parametrize("case", ["control", "colour", "turn"])
+def test_stroke_stops_at_edge(flat, size, case):
+    h, w, edge = 80, 200, 100
+    ref = np.empty((h, w, 3), np.float32)
+    ref[:, :edge] = RED
+    ref[:, edge:] = BLUE
+    ori = np.zeros((h, w), np.float32)
+    canvas = Canvas.blank((h, w), CANVAS_COLOUR)
+    if case == "colour":
+        canvas.colour[:, edge:] = BLUE          # rule (a): the canvas already matches there
+    elif case == "turn":
+        ori[:, edge:] = np.pi / 2               # rule (b): orientation turns by 90 degrees > T_o
+    before = canvas.colour.copy()
+    canvas, stroke, tip = paint_one(ref, ori, (edge - 4, 40), size, flat, canvas=canvas)
+    changed = np.any(canvas.colour != before, axis=2)
+    xs = np.nonzero(changed)[1]
+    assert xs.min() < edge - size                # it did paint on the red side
+    limit = edge + tip.length / 2 + 2            # brush half-length past the edge (+ rounding)
+    if case == "control":
+        assert xs.max() > limit + 10             # without either rule it runs on into the blue side
+    else:
+        assert xs.max() <= limit
+        assert stroke.path[:, 0].max() < edge
+
+
+# ---------------------------------------------------------------------------
+# 6. layout: p_min first, p_max only when coverage is satisfied
+
+
+def layout_arrays():
+    h, w = 10, 12
+    coverage = np.full((h, w), 0.9, np.float32)
+    reference = np.full((h, w, 3), 0.5, np.float32)
+    colour = reference.copy()
+    # outside the grid: worse values that must be ignored
+    coverage[0, 0] = 0.0
+    colour[9, 11] = (0.0, 0.0, 0.0)
+    return coverage, colour, reference
+
+
+GRID = (2, 1, 9, 7)  # x0, y0, x1, y1 (half-open)
+
+
+def test_choose_anchor_prefers_least_covered():
+    coverage, colour, reference = layout_arrays()
+    coverage[3, 5] = 0.3                        # p_min at x=5, y=3
+    coverage[5, 7] = 0.45                       # also below T_c, but not the least
+    colour[4, 6] = (1.0, 0.0, 0.0)              # large colour difference elsewhere
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) == (5, 3)
+
+
+def test_choose_anchor_p_max_when_covered():
+    coverage, colour, reference = layout_arrays()
+    coverage[3, 5] = 0.5                        # min coverage == T_c: satisfied (not < T_c)
+    colour[4, 6] = (0.5, 0.5, 0.8)              # distance 0.3
+    colour[2, 3] = (0.5, 0.7, 0.5)              # distance 0.2
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) == (6, 4)
+
+
+def test_choose_anchor_none_when_satisfied():
+    coverage, colour, reference = layout_arrays()
+    colour[4, 6] = (0.55, 0.55, 0.5)            # distance 0.0707 < 0.1
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) is None
+    colour[4, 6] = (0.65, 0.5, 0.5)             # 0.15 > 0.1
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) == (6, 4)
+
+
+# ---------------------------------------------------------------------------
+# 7. accumulate vs over
+
+
+def test_height_modes_over_and_accumulate(flat):
+    size = 16
+    tip = brush_tip(flat, size, 0.9)
+    samples, angles = straight_samples(20, 60, 20)
+    colours = np.tile(np.array([[0.3, 0.4, 0.5]], np.float32), (len(tip), 1))
+    fp = stroke_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, (40, 80))
+    band = 0.9 * size
+
+    over = Canvas.blank((40, 80), C0)
+    over.apply(fp, band, "over", 0.5)
+    h1 = over.height.astype(np.float64).copy()
+    o1 = over.opacity.astype(np.float64).copy()
+    over.apply(fp, band, "over", 0.5)
+    full = o1 == 1.0
+    assert full.sum() > 200
+    np.testing.assert_allclose(over.height[full], h1[full], atol=1e-6)       # same stroke twice: unchanged
+    # on the anti-aliased rim, H2 = o h + (1 - o) H1 with h = H1 / o
+    rim = (o1 > 0) & (o1 < 1)
+    assert rim.any()
+    h_stroke = h1[rim] / o1[rim]
+    np.testing.assert_allclose(over.height[rim], o1[rim] * h_stroke + (1 - o1[rim]) * h1[rim], atol=1e-6)
+
+    acc = Canvas.blank((40, 80), C0)
+    acc.apply(fp, band, "accumulate", 0.5)
+    a1 = acc.height.astype(np.float64).copy()
+    acc.apply(fp, band, "accumulate", 0.5)
+    assert np.all(acc.height >= a1 - 1e-7)
+    np.testing.assert_allclose(acc.height[full], 2 * a1[full], rtol=1e-5)
+    np.testing.assert_allclose(acc.height, 2 * a1, rtol=1e-5, atol=1e-7)
+    assert acc.height[full].mean() > 1.9 * a1[full].mean() > 0
+    # accumulate: H = o h build, so one stroke gives build * (over's height)
+    np.testing.assert_allclose(a1, 0.5 * h1, rtol=1e-5, atol=1e-7)
+
+
+# ---------------------------------------------------------------------------
+# 8. whole painter: textured areas get smaller, more numerous strokes
+
+
+def test_textured_half_gets_smaller_strokes():
+    h, w = 160, 240
+    rng = np.random.default_rng(1)
+    img = np.zeros((h, w, 3), np.float32)
+    x = np.linspace(0.0, 1.0, w // 2)[None, :]
+    y = np.linspace(0.0, 1.0, h)[:, None]
+    img[:, :w // 2, 0] = 0.2 + 0.6 * x
+    img[:, :w // 2, 1] = 0.3 + 0.4 * y
+    img[:, :w // 2, 2] = 0.5
+    palette = np.array([[0.9, 0.1, 0.1], [0.1, 0.8, 0.2], [0.1, 0.2, 0.9], [0.95, 0.9, 0.1], [0.1, 0.1, 0.1]],
+                       np.float32)
+    img[:, w // 2:] = palette[rng.integers(0, len(palette), (h // 4, w // 8))].repeat(4, 0).repeat(4, 1)
+    painting = paint(img, Params())
+    anchors = np.array([s.anchor for s in painting.strokes])
+    sizes = np.array([s.size for s in painting.strokes])
+    left = anchors[:, 0] < w // 2
+    assert left.sum() > 0 and (~left).sum() > 0
+    assert sizes[~left].mean() < sizes[left].mean()
+    assert (~left).sum() > left.sum()
+
+
+# ---------------------------------------------------------------------------
+# 9. degenerate images and invalid parameters
+
+
+def gradient(h, w):
+    img = np.zeros((h, w, 3), np.float32)
+    img[..., 0] = np.linspace(0, 1, w)[None, :]
+    img[..., 1] = np.linspace(0, 1, h)[:, None]
+    img[..., 2] = 0.4
+    return img
+
+
+@pytest.mark.parametrize("image", [
+    pytest.param(np.full((1, 1, 3), 0.5, np.float32), id="1x1"),
+    pytest.param(gradient(10, 1000), id="10x1000"),
+    pytest.param(gradient(1000, 10), id="1000x10"),
+    pytest.param(np.zeros((64, 48, 3), np.float32), id="black"),
+    pytest.param(np.ones((64, 48, 3), np.float32), id="white"),
+])
+def test_degenerate_images(image):
+    painting = paint(image, Params())
+    hh, ww = image.shape[:2]
+    assert painting.colour.shape == (hh, ww, 3)
+    for m in (painting.height, painting.opacity, painting.coverage):
+        assert m.shape == (hh, ww)
+    for m in (painting.colour, painting.height, painting.opacity, painting.coverage):
+        assert np.all(np.isfinite(m))
+    assert painting.colour.min() >= 0 and painting.colour.max() <= 1
+    assert painting.height.min() >= 0
+    assert len(painting.strokes) >= 1
+    assert painting.coverage.max() > 0.5     # paint fell
+
+
+@pytest.mark.parametrize("changes", [
+    {"stroke_sizes": ()},
+    {"stroke_sizes": (32, -4)},
+    {"layers": 0},
+    {"bristle_alpha": 1.5},
+], ids=["no-sizes", "negative-size", "zero-layers", "alpha"])
+def test_invalid_parameters(changes):
+    with pytest.raises(ParameterError) as info:
+        paint(gradient(16, 16), Params(**changes))
+    assert one_sentence(str(info.value))
+
+
+def test_bad_brush_files(tmp_path):
+    black = tmp_path / "black.png"
+    write_png(black, np.zeros((8, 16)))
+    garbage = tmp_path / "garbage.png"
+    garbage.write_bytes(b"this is not a PNG file at all" * 4)
+    for path in (black, garbage):
+        with pytest.raises(PaintReliefError) as info:
+            paint(gradient(16, 16), Params(brush=str(path)))
+        assert type(info.value) is not PaintReliefError
+        assert one_sentence(str(info.value))
+    # control: a good brush file paints
+    good = tmp_path / "good.png"
+    write_png(good, np.full((6, 18), 0.8))
+    assert len(paint(gradient(16, 16), Params(brush=str(good))).strokes) > 0
+
+
+# ---------------------------------------------------------------------------
+# 10. determinism
+
+
+def test_determinism():
+    rng = np.random.default_rng(5)
+    img = gradient(64, 96)
+    img[20:44, 30:70] = rng.uniform(0, 1, (24, 40, 3)).astype(np.float32)
+    a = paint(img, Params(seed=7))
+    b = paint(img, Params(seed=7))
+    for name in ("colour", "height", "opacity", "coverage"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+    assert len(a.strokes) == len(b.strokes) > 0
+    for s, t in zip(a.strokes, b.strokes):
+        assert s.to_dict() == t.to_dict()
+        np.testing.assert_array_equal(s.path, t.path)
+    c = paint(img, Params(seed=8))
+    assert not np.array_equal(a.colour, c.colour)
+
+
+# ---------------------------------------------------------------------------
+# 11. bundled samples
+
+
+@pytest.mark.parametrize("name", ["coffee", "chelsea"])
+def test_bundled_samples_psnr(name):
+    image = read_image(ROOT / "sample_scenes" / f"{name}.png")
+    painting = paint(image, Params())
+    assert painting.statistics["psnr_db"] >= 20
+    assert math.isfinite(painting.statistics["psnr_db"])
