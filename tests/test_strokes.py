@@ -490,3 +490,11 @@ def test_bundled_samples_psnr(name):
     painting = paint(image, Params())
     assert painting.statistics["psnr_db"] >= 20
     assert math.isfinite(painting.statistics["psnr_db"])
+
+
+def test_grids_are_visited_largest_first():
+    from core.layout import grid_order
+
+    grids = np.array([[0, 0, 2, 2], [2, 0, 10, 8], [0, 2, 2, 8], [10, 0, 12, 2]], dtype=np.int32)
+    # areas 4, 64, 12, 4: largest first, ties in partition order
+    assert grid_order(grids).tolist() == [1, 2, 0, 3]
