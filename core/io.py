@@ -437,9 +437,14 @@ def write_json(path: PathLike, obj, indent: Optional[int] = 2) -> None:
     NumPy scalars and arrays and paths are converted to plain JSON values.
     Failures to write raise OutputError naming the file.
     """
-    path = pathlib.Path(path)
     separators = None if indent is not None else (",", ":")
     text = json.dumps(obj, indent=indent, separators=separators, sort_keys=False, default=_json_default) + "\n"
+    write_text(path, text)
+
+
+def write_text(path: PathLike, text: str) -> None:
+    """Write UTF-8 ``text`` atomically; failures raise OutputError naming the file."""
+    path = pathlib.Path(path)
     with atomic_path(path) as temp:
         try:
             temp.write_text(text, encoding="utf-8")
