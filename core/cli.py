@@ -17,7 +17,7 @@ from typing import List, Optional
 from . import io
 from .analysis import Analysis, analyze
 from .errors import Cancelled, PaintReliefError, ParameterError
-from .params import Params
+from .params import STYLE_NAMES, Params
 from .progress import ConsoleProgress
 from .staging import staged_outputs
 from .version import __version__
@@ -77,7 +77,22 @@ def build_parser() -> argparse.ArgumentParser:
                               "'accumulate': paint piles up (default: %(default)s)")
     paint_p.add_argument("--alpha", type=float, default=DEFAULTS.bristle_alpha, metavar="A",
                          help="weight of each bristle's own colour in Eq. 5 (default: %(default)s)")
+    paint_p.add_argument("--method", default=DEFAULTS.method, metavar="huang11|hertzmann98",
+                         help="huang11: the paper's painter; hertzmann98: the Hertzmann 1998 baseline "
+                              "(default: %(default)s)")
+    paint_p.add_argument("--style", default=DEFAULTS.style,
+                         metavar="impressionist|expressionist|colorist_wash|pointillist",
+                         help="Hertzmann 1998 style: the baseline's settings with --method hertzmann98, its "
+                              "threshold and grid with --layout hertzmann98 (colorist-wash also accepted) "
+                              "(default: %(default)s)")
+    paint_p.add_argument("--layout", default=DEFAULTS.layout, metavar="paper|hertzmann98",
+                         help="huang11 stroke layout: paper (importance partition) or hertzmann98 "
+                              "(layered grid ablation, Fig. 8b) (default: %(default)s)")
+    paint_p.add_argument("--renderer", default=DEFAULTS.renderer, metavar="bristles|lines",
+                         help="huang11 strokes: bristles (the paper's brush) or lines (solid anti-aliased "
+                              "lines, Fig. 8c ablation) (default: %(default)s)")
     paint_p.set_defaults(run=run_paint)
+    _add_light_parser(sub)
     return parser
 
 
@@ -86,9 +101,12 @@ def params_from_args(args: argparse.Namespace) -> Params:
     fields = {"stroke_sizes": tuple(args.sizes), "detail": args.detail, "mask_strength": args.mask_strength,
               "seed": args.seed, "max_megapixels": args.max_megapixels}
     for option, name in (("layers", "layers"), ("brush", "brush"), ("height_mode", "height_mode"),
-                         ("alpha", "bristle_alpha")):
+                         ("alpha", "bristle_alpha"), ("method", "method"), ("style", "style"),
+                         ("layout", "layout"), ("renderer", "renderer")):
         if hasattr(args, option):
             fields[name] = getattr(args, option)
+    if isinstance(fields.get("style"), str) and fields["style"].replace("-", "_") in STYLE_NAMES:
+        fields["style"] = fields["style"].replace("-", "_")
     return Params(**fields).validate()
 
 
@@ -125,6 +143,88 @@ def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -
     summary["seconds"]["pictures"] = round(time.perf_counter() - t0, 4)
     summary.update({"input": str(source), "version": __version__, "seed": params.seed, "params": params.to_dict()})
     io.write_json(out / "analysis.json", summary)
+
+
+def _add_light_parser(sub) -> None:
+    """The ``light`` subcommand's options."""
+    import math
+
+    from . import lighting
+
+    p = sub.add_parser(
+        "light", help="light a painted folder in 2-D: the paper's Eq. 6-7, a fixed light, or bump shading",
+        description="Read OUTDIR/color.exr, height.exr (and orientation.exr for 'paper') written by "
+                    "`python -m core paint` and write OUTDIR/lit_<model>.png (8-bit sRGB). Angles are "
+                    "degrees; the azimuth points from the canvas towards the light, from +x (right) "
+                    "towards +y (down the image): 0 = right, 90 = bottom, 180 = left, 270 = top.")
+    p.add_argument("outdir", metavar="OUTDIR", help="a folder written by `python -m core paint`")
+    p.add_argument("--model", required=True, metavar="paper|directional|bump",
+                   help="paper: Eq. 6-7, the light turns with the strokes; directional: Eq. 6-7 with one "
+                        "fixed light; bump: Blinn-Phong bump shading, one directional light (required)")
+    p.add_argument("--azimuth", default=f"{math.degrees(lighting.DEFAULT_AZIMUTH):g}", metavar="DEG",
+                   help="light direction for directional and bump, degrees (default: %(default)s, upper left)")
+    p.add_argument("--elevation", default=f"{math.degrees(lighting.DEFAULT_ELEVATION):g}", metavar="DEG",
+                   help="light height above the canvas for bump, degrees in (0, 90] (default: %(default)s)")
+    p.add_argument("--strength", default=None, metavar="A",
+                   help=f"paper and directional: a of Eq. 7 (default: {lighting.PAPER_STRENGTH:g}); "
+                        f"bump: relief, pixel widths per height unit (default: {lighting.DEFAULT_RELIEF:g})")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
+    p.set_defaults(run=run_light)
+
+
+def _number(text: str, option: str) -> float:
+    """``text`` as a finite float; ParameterError naming ``option`` otherwise."""
+    import math
+
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        value = math.nan
+    if not math.isfinite(value):
+        raise ParameterError(f"The option {option} must be a number, got {text!r}.")
+    return value
+
+
+def run_light(args: argparse.Namespace, progress) -> None:
+    """The ``light`` subcommand: OUTDIR's maps -> OUTDIR/lit_<model>.png."""
+    import math
+
+    from . import lighting
+    from .colour import linear_to_srgb
+    from .errors import InputError
+
+    model = lighting.check_model(args.model)
+    azimuth = math.radians(_number(args.azimuth, "--azimuth"))
+    elevation = math.radians(_number(args.elevation, "--elevation"))
+    strength = None if args.strength is None else _number(args.strength, "--strength")
+    if model == "bump" and not 0.0 < elevation <= math.pi / 2:
+        raise ParameterError(f"The option --elevation must be above 0 and at most 90 degrees, got {args.elevation}.")
+    if strength is not None and strength < 0:
+        raise ParameterError(f"The option --strength must not be negative, got {args.strength}.")
+    folder = Path(args.outdir)
+    if not folder.is_dir():
+        raise InputError(f"The folder {folder} does not exist: run `python -m core paint` into it first.")
+    names = ("color.exr", "height.exr") + (("orientation.exr",) if model == "paper" else ())
+    for name in names:
+        if not (folder / name).is_file():
+            raise InputError(f"{folder / name} is missing: run `python -m core paint` into that folder first.")
+    maps = {}
+    for name, channels in zip(names, (3, 1, 1)):
+        data, _, _ = io.read_exr(folder / name)
+        if data.shape[2] != channels:
+            raise InputError(f"{folder / name} has {data.shape[2]} channels, expected {channels}.")
+        if "color.exr" in maps and data.shape[:2] != maps["color.exr"].shape[:2]:
+            raise InputError(f"{folder / name} is {data.shape[1]} x {data.shape[0]} pixels, "
+                             f"not the size of {folder / 'color.exr'}.")
+        maps[name] = data
+    if progress is not None:
+        progress(0.0, f"Lighting ({model})")
+    image = lighting.light(model, linear_to_srgb(maps["color.exr"]), maps["height.exr"][:, :, 0],
+                           maps["orientation.exr"][:, :, 0] if model == "paper" else None,
+                           azimuth=azimuth, elevation=elevation, strength=strength)
+    io.write_png(folder / f"lit_{model}.png", image)
+    if progress is not None:
+        progress(1.0, f"Wrote {folder / f'lit_{model}.png'}")
 
 
 def main(argv: Optional[List[str]] = None) -> int:

@@ -10,6 +10,7 @@ import numpy as np
 
 from . import io
 from .colour import srgb_to_linear
+from .lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
 from .painting import Painting
 from .version import __version__
 
@@ -31,7 +32,12 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     height.exr   Y, paint height (1 = one full bristle's contact)
     opacity.exr  Y, stroke opacity in [0, 1]
     orientation.exr  Y, stroke direction in radians [0, pi) (the paper's lighting needs it)
+    normal.exr   RGB, tangent-space normals of the height field (lighting.normal_map at
+                 relief DEFAULT_RELIEF px per height unit; OpenGL convention X right, Y up,
+                 Z out), stored ENCODED as n * 0.5 + 0.5 in [0, 1]: Blender's Normal Map
+                 node expects encoded colour data, so load it as Non-Color data
     painting.png the painting, 8-bit sRGB
+    lit_paper.png the painting lit by the paper's Eq. 6-7 at strength PAPER_STRENGTH, 8-bit sRGB
     strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
     report.json  figures of the run
     """
@@ -42,7 +48,13 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     io.write_exr(folder / "height.exr", painting.height, channels=("Y",), attributes=attributes)
     io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), attributes=attributes)
     io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), attributes=attributes)
+    normal_attributes = dict(attributes, **{"paint_relief:normal_relief": float(DEFAULT_RELIEF),
+                                            "paint_relief:normal_encoding": "n*0.5+0.5, OpenGL (Y up)"})
+    io.write_exr(folder / "normal.exr", encode_normals(normal_map(painting.height, DEFAULT_RELIEF)),
+                 attributes=normal_attributes)
     io.write_png(folder / "painting.png", painting.colour)
+    io.write_png(folder / "lit_paper.png",
+                 paper_lighting(painting.colour, painting.height, painting.orientation, PAPER_STRENGTH))
     io.write_json(folder / "strokes.json", {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
                   indent=None)
     report = dict(painting.statistics)

@@ -34,3 +34,37 @@ def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference: np.
     if dist2.flat[k] > difference_threshold * difference_threshold:
         return x0 + k % gw, y0 + k // gw
     return None
+
+
+def hertzmann_anchors(error: np.ndarray, spacing: int, threshold: float) -> np.ndarray:
+    """Hertzmann 1998 layout: (N, 2) int (x, y) anchors of one layer, cells in raster order.
+
+    error: (H, W) per-pixel error |reference - canvas| (any scale; +inf where
+    the canvas is bare). The canvas is tiled by square cells of ``spacing``
+    px (the last row and column may be narrower); a cell whose mean error is
+    above ``threshold`` gets a stroke at its pixel of maximum error. Ties
+    (a bare cell is all +inf) go to the pixel nearest the cell's centre, so a
+    bare canvas gets anchors in the middle of its cells.
+    """
+    h, w = error.shape
+    g = max(1, int(spacing))
+    ny, nx = -(-h // g), -(-w // g)
+    padded = np.zeros((ny * g, nx * g), np.float64)
+    padded[:h, :w] = error
+    blocks = padded.reshape(ny, g, nx, g).swapaxes(1, 2).reshape(ny, nx, g * g)
+    cell_h = np.minimum(g, h - np.arange(ny) * g)
+    cell_w = np.minimum(g, w - np.arange(nx) * g)
+    mean = blocks.sum(axis=2) / (cell_h[:, None] * cell_w[None, :])
+    cy, cx = np.nonzero(mean > threshold)
+    if cy.size == 0:
+        return np.zeros((0, 2), np.int64)
+    ly, lx = np.divmod(np.arange(g * g), g)
+    inside = (ly[None, :] < cell_h[cy][:, None]) & (lx[None, :] < cell_w[cx][:, None])
+    values = np.where(inside, blocks[cy, cx], -np.inf)
+    top = values.max(axis=1)
+    centre_y = (cell_h[cy] - 1) / 2.0
+    centre_x = (cell_w[cx] - 1) / 2.0
+    dist2 = (ly[None, :] - centre_y[:, None]) ** 2 + (lx[None, :] - centre_x[:, None]) ** 2
+    score = np.where(values == top[:, None], -dist2, -np.inf)
+    k = np.argmax(score, axis=1)
+    return np.stack([cx * g + lx[k], cy * g + ly[k]], axis=1).astype(np.int64)

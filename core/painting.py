@@ -12,7 +12,7 @@ from .analysis import Analysis, analyze
 from .brush import load_brush, tip_cache
 from .canvas import Canvas
 from .errors import InputError
-from .layout import choose_anchor, grid_order
+from .layout import choose_anchor, grid_order, hertzmann_anchors
 from .metrics import psnr
 from .params import Params
 from .progress import CancelFn, ProgressFn, Stage
@@ -59,6 +59,9 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     between strokes and raises Cancelled when it returns True.
     """
     params.validate()
+    if params.method == "hertzmann98":
+        from .hertzmann import paint_hertzmann
+        return paint_hertzmann(image, params, params.style, progress=progress, cancel=cancel, mask=mask)
     image = check_image(image)
     stage = Stage(progress, cancel)
     brush = load_brush(params.brush)
@@ -68,7 +71,10 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     t0 = time.perf_counter()
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
     tips = tip_cache(brush, analysis.sizes, params.transparency)
-    strokes, per_layer = paint_layers(canvas, analysis, tips, params, stage.sub(0.15, 1.0))
+    if params.layout == "hertzmann98":
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, params, stage.sub(0.15, 1.0))
+    else:
+        strokes, per_layer = paint_layers(canvas, analysis, tips, params, stage.sub(0.15, 1.0))
     seconds = dict(analysis.seconds)
     seconds["strokes"] = time.perf_counter() - t0
     statistics = {
@@ -82,6 +88,10 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
         "height_mode": params.height_mode,
         "seed": params.seed,
         "version": __version__,
+        "method": params.method,
+        "style": params.style.strip().lower().replace("-", "_"),
+        "layout": params.layout,
+        "renderer": params.renderer,
     }
     stage.report(1.0, f"Painted {len(strokes)} strokes")
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
@@ -114,4 +124,45 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, params: Params,
                 last_report = time.monotonic()
                 stage.report(done / total, f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
         per_layer.append(count)
+    return strokes, per_layer
+
+
+def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, params: Params, stage: Stage) -> tuple:
+    """The Fig. 8b ablation: the paper's strokes on Hertzmann 1998's layered layout.
+
+    One layer per standard stroke size (largest first; params.layers is not
+    used). A layer tiles the canvas with cells of max(1, int(f_g * size / 2))
+    px, finds the cells whose mean error |reference - canvas| (Euclidean RGB
+    on 0-255, +inf where the coverage is 0) exceeds the style's T, anchors a
+    stroke at each such cell's max-error pixel, and paints those strokes in a
+    random (seeded) order with the paper's brush, colours and relief against
+    the paper's bilateral reference and orientation field. Anchors come from
+    the canvas at the start of the layer; each stroke's path is planned when
+    it is painted. Returns (strokes, strokes per layer).
+    """
+    from .hertzmann import get_style
+
+    style = get_style(params.style)
+    rng = np.random.default_rng(params.seed)
+    reference = analysis.reference
+    strokes: List[Stroke] = []
+    per_layer: List[int] = []
+    last_report = time.monotonic()
+    sizes = list(analysis.sizes)
+    for layer, size in enumerate(sizes):
+        diff = reference - canvas.colour
+        error = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff, dtype=np.float64)) * 255.0
+        error[canvas.coverage <= 0.0] = np.inf
+        anchors = hertzmann_anchors(error, max(1, int(style.grid * size / 2.0)), style.threshold)
+        order = rng.permutation(len(anchors))
+        for done, i in enumerate(order.tolist()):
+            anchor = (int(anchors[i, 0]), int(anchors[i, 1]))
+            strokes.append(paint_stroke(canvas, reference, analysis.orientation, anchor, size, layer, tips[size],
+                                        rng, params))
+            stage.check()
+            if time.monotonic() - last_report > 0.1:
+                last_report = time.monotonic()
+                stage.report((layer + done / max(1, len(order))) / len(sizes),
+                             f"Layer {layer + 1}/{len(sizes)}: {len(strokes)} strokes")
+        per_layer.append(len(order))
     return strokes, per_layer

@@ -16,6 +16,11 @@ from .errors import ParameterError
 
 CANVAS_COLOUR = (0.93, 0.90, 0.84)
 
+METHODS = ("huang11", "hertzmann98")
+STYLE_NAMES = ("impressionist", "expressionist", "colorist_wash", "pointillist")
+LAYOUTS = ("paper", "hertzmann98")
+RENDERERS = ("bristles", "lines")
+
 
 @dataclass(frozen=True)
 class Params:
@@ -86,6 +91,20 @@ class Params:
     canvas_colour: Tuple[float, float, float] = CANVAS_COLOUR
     """sRGB colour of the bare canvas."""
 
+    # --- method, baselines and ablations (ALGORITHM §8) ---
+    method: str = "huang11"
+    """'huang11' (the paper's painter) or 'hertzmann98' (the baseline in core/hertzmann.py)."""
+    style: str = "impressionist"
+    """Hertzmann 1998 style (impressionist, expressionist, colorist_wash, pointillist): the whole
+    baseline when method is 'hertzmann98'; its threshold T and grid factor f_g when layout is 'hertzmann98'."""
+    layout: str = "paper"
+    """'paper' (importance partition, §2-3) or 'hertzmann98' (the Fig. 8b ablation: one layer per
+    standard size, cells of f_g * size / 2 px, a stroke at the max-error pixel of each cell whose mean
+    error exceeds the style's T, random order); only for method 'huang11'."""
+    renderer: str = "bristles"
+    """'bristles' (the paper's brush, §5) or 'lines' (the Fig. 8c ablation: one solid anti-aliased
+    line of the anchor colour, brush width wide); only for method 'huang11'."""
+
     # --- limits and randomness ---
     max_megapixels: float = 50.0
     """Inputs above this many megapixels are refused."""
@@ -131,6 +150,11 @@ class Params:
         need(self.height_build > 0, "The height build factor must be positive.")
         need(len(self.canvas_colour) == 3 and all(0 <= c <= 1 for c in self.canvas_colour),
              "The canvas colour must be three values between 0 and 1.")
+        need(self.method in METHODS, f"Unknown method {self.method!r}; choose huang11 or hertzmann98.")
+        need(isinstance(self.style, str) and self.style.strip().lower().replace("-", "_") in STYLE_NAMES,
+             f"Unknown style {self.style!r}; choose impressionist, expressionist, colorist_wash or pointillist.")
+        need(self.layout in LAYOUTS, f"Unknown layout {self.layout!r}; choose paper or hertzmann98.")
+        need(self.renderer in RENDERERS, f"Unknown renderer {self.renderer!r}; choose bristles or lines.")
         need(self.max_megapixels > 0, "The pixel limit must be positive.")
         need(isinstance(self.seed, int) and self.seed >= 0, "The seed must be a whole number >= 0.")
         return self

@@ -9,7 +9,8 @@ from core import io
 from core.cli import main
 from core.colour import srgb_to_linear
 
-OUTPUTS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "strokes.json", "report.json"}
+OUTPUTS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "normal.exr", "painting.png", "lit_paper.png",
+           "strokes.json", "report.json"}
 REPORT_KEYS = {"strokes", "strokes_per_layer", "grids", "psnr_db", "seconds", "params", "seed", "width", "height",
                "version", "height_mode"}
 
