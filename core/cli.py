@@ -93,6 +93,7 @@ def build_parser() -> argparse.ArgumentParser:
                               "lines, Fig. 8c ablation) (default: %(default)s)")
     paint_p.set_defaults(run=run_paint)
     _add_light_parser(sub)
+    _add_experiments_parser(sub)
     return parser
 
 
@@ -225,6 +226,32 @@ def run_light(args: argparse.Namespace, progress) -> None:
     io.write_png(folder / f"lit_{model}.png", image)
     if progress is not None:
         progress(1.0, f"Wrote {folder / f'lit_{model}.png'}")
+
+
+def _add_experiments_parser(sub) -> None:
+    """The ``experiments`` subcommand's options."""
+    p = sub.add_parser(
+        "experiments", help="compare the paper's method with Hertzmann 1998 and the two ablations",
+        description="Paint every IMAGE with the paper's method, Hertzmann 1998 (Impressionist), the "
+                    "Hertzmann-layout ablation and the solid-lines ablation; write table.md, table.csv "
+                    "(strokes, seconds, PSNR, SSIM, edge fidelity, stroke ratio) and <image>_sheet.png.")
+    p.add_argument("images", nargs="+", metavar="IMAGE", help="photographs to paint")
+    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the tables and sheets")
+    p.add_argument("--detail", type=float, default=DEFAULTS.detail, metavar="X",
+                   help="detail of the paper's method (default: %(default)s)")
+    p.add_argument("--seed", type=int, default=DEFAULTS.seed, metavar="N", help="random seed (default: %(default)s)")
+    p.add_argument("--max-megapixels", type=float, default=DEFAULTS.max_megapixels, metavar="N",
+                   help="refuse inputs larger than this (default: %(default)s)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
+    p.set_defaults(run=run_experiments_command)
+
+
+def run_experiments_command(args: argparse.Namespace, progress) -> None:
+    """The ``experiments`` subcommand."""
+    from .experiments import run_experiments
+
+    params = Params(detail=args.detail, seed=args.seed, max_megapixels=args.max_megapixels).validate()
+    run_experiments([Path(p) for p in args.images], Path(args.output), params, progress=progress)
 
 
 def main(argv: Optional[List[str]] = None) -> int:
