@@ -12,8 +12,16 @@ BLENDER_EXT := $(BPY_DIR)/addons_core/bl_pkg/cli/blender_ext.py
 VALID_TAGS   = $(abspath $(dir $(BLENDER_EXT))../../../modules/_bpy_internal/extensions/tags.py)
 DIST        ?= dist
 VERSION     := $(shell sed -n 's/^version *= *"\(.*\)"/\1/p' blender_manifest.toml)
+# The wheels the manifest lists (./wheels/<name>.whl), downloaded on demand.
+WHEELS      := $(shell sed -n 's|^ *"\./\(wheels/[^"]*\.whl\)".*|\1|p' blender_manifest.toml)
+# Blender 4.2 LTS as a Python module, for `make test-compat`: SciPy as in the
+# manifest's wheels, NumPy as Blender 4.2 ships it.
+COMPAT       := .venv-compat
+COMPAT_PY    := $(COMPAT)/bin/python
+COMPAT_STAMP := $(COMPAT)/.installed
+COMPAT_REQUIREMENTS := bpy==4.2.0 numpy==1.24.3 scipy==1.15.3 OpenImageIO==3.0.21.0 pytest==9.2.0 hypothesis==6.170.15
 
-.PHONY: setup test demo bench extension clean
+.PHONY: setup test test-compat demo bench extension clean
 
 setup: $(STAMP)
 
@@ -34,11 +42,32 @@ demo: $(STAMP)
 bench: $(STAMP)
 	$(PY) bench/analysis.py
 	$(PY) bench/paint.py
+	$(PY) bench/hertzmann.py
+	$(PY) bench/lighting.py
+	$(PY) bench/blender.py
 
-extension: $(STAMP)
+extension: $(STAMP) $(WHEELS)
 	@mkdir -p $(DIST)
-	$(PY) $(BLENDER_EXT) build --source-dir . --output-dir $(DIST) --valid-tags $(VALID_TAGS)
-	$(PY) $(BLENDER_EXT) validate $(DIST)/paint_relief-$(VERSION).zip
+	$(PY) $(BLENDER_EXT) build --source-dir . --output-dir $(DIST) --valid-tags $(VALID_TAGS) --split-platforms
+	@for zip in $(DIST)/paint_relief-$(VERSION)-*.zip; do \
+	  echo "validate $$zip"; $(PY) $(BLENDER_EXT) validate "$$zip" || exit 1; done
+
+# wheels/<dist>-<version>-<python>-<abi>-<platform>[.<platform>...].whl: one pip download for its first platform tag.
+wheels/%.whl:
+	@mkdir -p wheels
+	$(PY) -m pip download --quiet --disable-pip-version-check --only-binary=:all: --no-deps --python-version 3.11 \
+	  --platform $(firstword $(subst ., ,$(lastword $(subst -, ,$*)))) --dest wheels \
+	  $(word 1,$(subst -, ,$*))==$(word 2,$(subst -, ,$*))
+	@test -f $@ || { echo "pip did not download $@"; exit 1; }
+
+# The add-on tests on Blender 4.2 LTS (bpy 4.2 module, Python 3.11). Not part of `test`.
+test-compat: $(COMPAT_STAMP)
+	$(COMPAT_PY) -m pytest -q -m blender -p no:cacheprovider tests/test_extension.py tests/test_addon*.py
+
+$(COMPAT_STAMP): Makefile
+	@test -x $(COMPAT_PY) || $(PYTHON) -m venv $(COMPAT)
+	$(COMPAT_PY) -m pip install --quiet --disable-pip-version-check $(COMPAT_REQUIREMENTS)
+	@touch $(COMPAT_STAMP)
 
 clean:
 	rm -rf dist build $(OUT) .pytest_cache

@@ -1,15 +1,15 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Everything that touches ``bpy``: settings, panels and (later) operators.
+"""Everything that touches ``bpy``: settings, operators and panels.
 
 Each module lists its classes in ``classes``; they are registered in that order
 and unregistered in reverse, so enabling, disabling and enabling again leaves
 no stale classes or properties behind.
 """
 
-from . import panels, properties
+from . import ops_paint, ops_scene, panels, properties
 
-# Register order matters: property groups before the panels that draw them.
-_modules = (properties, panels)
+# Register order matters: property groups first, panels (which name the operators) last.
+_modules = (properties, ops_paint, ops_scene, panels)
 
 
 def register():

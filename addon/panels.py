@@ -1,5 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""User interface: the Paint Relief tab of the 3D Viewport sidebar (N panel)."""
+"""User interface: the Paint Relief tab of the 3D Viewport sidebar (N panel).
+
+A parent panel shows which painting the scene uses; sub-panels Paint, Canvas
+and Lighting hold the settings and the operators. Buttons are greyed out by
+the operators' poll() until they can run.
+"""
 
 import bpy
 from bpy.types import Panel
@@ -7,29 +12,98 @@ from bpy.types import Panel
 from . import properties
 
 
-class VIEW3D_PT_paint_relief(Panel):
-    """Choose a photograph and where the painted maps go."""
-
+class _PaintReliefPanel:
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Paint Relief"
-    bl_label = "Paint Relief"
 
-    def draw(self, context):
+    def _layout(self):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        settings = context.scene.paint_relief
+        return layout
 
+
+class VIEW3D_PT_paint_relief(_PaintReliefPanel, Panel):
+    """Paint a photograph, then stage it as a canvas with relief, lights and a camera"""
+
+    bl_label = "Paint Relief"
+
+    def draw(self, context):
+        settings = context.scene.paint_relief
+        row = self.layout.row()
+        if settings.painting_dir:
+            row.label(text=bpy.path.basename(bpy.path.abspath(settings.painting_dir).rstrip("/\\")), icon="IMAGE_DATA")
+        else:
+            row.label(text="No painting yet", icon="INFO")
+
+
+class VIEW3D_PT_paint_relief_paint(_PaintReliefPanel, Panel):
+    """Choose a photograph and the painter's settings"""
+
+    bl_label = "Paint"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+
+    def draw(self, context):
+        layout = self._layout()
+        settings = context.scene.paint_relief
         layout.prop(settings, "image_path")
         layout.prop(settings, "output_dir")
         if not settings.output_dir:
             row = layout.row()
             row.alignment = "RIGHT"
             row.label(text=properties.default_output_dir(context, create=False), icon="INFO")
+        col = layout.column()
+        col.prop(settings, "detail")
+        col.prop(settings, "stroke_sizes")
+        col.prop(settings, "layers")
+        col.prop(settings, "seed")
+        col.prop(settings, "brush")
+        if settings.brush == "CUSTOM":
+            col.prop(settings, "brush_path")
+        col.prop(settings, "height_mode")
+        layout.operator("paint_relief.paint", icon="BRUSH_DATA")
 
 
-classes = (VIEW3D_PT_paint_relief,)
+class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
+    """The canvas object: physical size, paint thickness and how the relief is made"""
+
+    bl_label = "Canvas"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+
+    def draw(self, context):
+        layout = self._layout()
+        settings = context.scene.paint_relief
+        layout.prop(settings, "painting_dir")
+        layout.prop(settings, "canvas_width_cm")
+        layout.prop(settings, "thickness_mm")
+        layout.prop(settings, "displacement_method")
+        layout.operator("paint_relief.build_canvas", icon="MESH_PLANE")
+        layout.operator("paint_relief.add_camera", icon="OUTLINER_OB_CAMERA")
+
+
+class VIEW3D_PT_paint_relief_lighting(_PaintReliefPanel, Panel):
+    """A raking key light that shows the paint's relief, and a soft fill"""
+
+    bl_label = "Lighting"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+
+    def draw(self, context):
+        layout = self._layout()
+        settings = context.scene.paint_relief
+        layout.prop(settings, "light_azimuth")
+        layout.prop(settings, "light_elevation")
+        layout.prop(settings, "light_strength")
+        layout.prop(settings, "fill_light")
+        layout.operator("paint_relief.add_lights", icon="LIGHT_SUN")
+
+
+classes = (
+    VIEW3D_PT_paint_relief,
+    VIEW3D_PT_paint_relief_paint,
+    VIEW3D_PT_paint_relief_canvas,
+    VIEW3D_PT_paint_relief_lighting,
+)
 
 
 def register():

@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Scene settings of Paint Relief: ``bpy.types.Scene.paint_relief``."""
 
+import math
 import os
 
 import bpy
-from bpy.props import PointerProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 from bpy.types import PropertyGroup
 
 # ``__package__`` here is "<extension package>.addon"; the extension package
@@ -71,6 +72,114 @@ class PaintReliefSettings(PropertyGroup):
         ),
         subtype="DIR_PATH",
         options=_PATH_OPTIONS,
+    )
+
+    # --- painter parameters (defaults equal core.Params's) ---
+    detail: FloatProperty(
+        name="Detail",
+        description="How finely detailed areas of the photograph are split into small strokes (0 coarse, 1 fine)",
+        default=0.2, min=0.0, max=1.0, subtype="FACTOR",
+    )
+    stroke_sizes: StringProperty(
+        name="Stroke Sizes",
+        description=(
+            "Brush widths in pixels for a 1-megapixel photograph, largest first, separated by commas "
+            "(they scale with the square root of the photograph's size)"
+        ),
+        default="64,32,16,8,4",
+    )
+    layers: IntProperty(
+        name="Layers",
+        description="Number of paint layers laid one over the other",
+        default=4, min=1, max=16,
+    )
+    seed: IntProperty(
+        name="Seed",
+        description="Seed of the random stroke variations: the same photograph, settings and seed give the same painting",
+        default=0, min=0,
+    )
+    brush: EnumProperty(
+        name="Brush",
+        description="Bristle pattern of every stroke",
+        items=(
+            ("FLAT", "Flat", "A flat brush: even bristles across the stroke"),
+            ("ROUND", "Round", "A round brush: bristles thin out towards the stroke's sides"),
+            ("FILBERT", "Filbert", "A filbert brush: flat with rounded edges"),
+            ("CUSTOM", "Custom", "A grayscale PNG brush map of your own (columns across the stroke, rows along it)"),
+        ),
+        default="FLAT",
+    )
+    brush_path: StringProperty(
+        name="Brush Image",
+        description="Grayscale PNG brush map used when Brush is Custom (white = bristle, black = no paint)",
+        subtype="FILE_PATH",
+        options=_PATH_OPTIONS,
+    )
+    height_mode: EnumProperty(
+        name="Height Mode",
+        description="How the paint height of overlapping strokes combines",
+        items=(
+            ("OVER", "Over", "Each stroke covers the height below it by its opacity (the paper's weighted sum)"),
+            ("ACCUMULATE", "Accumulate", "Paint piles up stroke by stroke, as thick impasto does"),
+        ),
+        default="OVER",
+    )
+
+    # --- the canvas in the scene ---
+    painting_dir: StringProperty(
+        name="Painting",
+        description=(
+            "Folder of painted maps (color.exr, height.exr, opacity.exr) the canvas is built from. "
+            "Paint fills it in; choose any earlier painted folder to use that one"
+        ),
+        subtype="DIR_PATH",
+        options=_PATH_OPTIONS,
+    )
+    canvas_width_cm: FloatProperty(
+        name="Canvas Width",
+        description="Physical width of the canvas in centimetres; the height follows the painting's aspect",
+        default=40.0, min=1.0, soft_max=300.0, precision=1,
+    )
+    thickness_mm: FloatProperty(
+        name="Paint Thickness",
+        description="Physical height in millimetres of paint of height 1 (one full bristle's contact)",
+        default=2.0, min=0.0, soft_max=20.0, precision=2,
+    )
+    displacement_method: EnumProperty(
+        name="Displacement",
+        description="How the paint's relief becomes geometry",
+        items=(
+            ("CYCLES_ADAPTIVE", "Cycles Adaptive",
+             "Cycles adaptive subdivision with material displacement: finest relief, Cycles renders only"),
+            ("MESH", "Mesh",
+             "A finely subdivided mesh with a Displace modifier: works in Cycles, EEVEE and Workbench"),
+        ),
+        default="MESH",
+    )
+
+    # --- lighting ---
+    light_azimuth: FloatProperty(
+        name="Azimuth",
+        description=(
+            "Direction the key light comes from, in the canvas plane: 0 is the painting's right edge, "
+            "angles turn counter-clockwise as seen from the camera (90 is the top edge, 180 the left)"
+        ),
+        default=math.radians(135.0), min=-2.0 * math.pi, max=2.0 * math.pi, subtype="ANGLE",
+    )
+    light_elevation: FloatProperty(
+        name="Elevation",
+        description="Angle of the key light above the canvas plane: low angles rake across the paint and show its relief",
+        default=math.radians(30.0), min=math.radians(1.0), max=math.radians(90.0), subtype="ANGLE",
+    )
+    light_strength: FloatProperty(
+        name="Strength",
+        description="Irradiance the key light gives a flat canvas (1 makes white paint render white)",
+        default=0.8, min=0.0, soft_max=5.0,
+    )
+    fill_light: BoolProperty(
+        name="Fill Light",
+        description="Add a soft, weak light from the opposite side so shadowed paint keeps some colour",
+        default=True,
     )
 
 

@@ -1,15 +1,18 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The extension package: `make extension` builds a small, valid zip that
-Blender installs, enables, disables and enables again.
+"""The extension package: `make extension` builds one valid zip per platform
+(the extension plus that platform's SciPy wheel) that Blender installs,
+enables, disables and enables again.
 
 The build runs the Makefile's own `extension` target on a copy of the
 repository (so the repository's dist/ is never touched), with decoy files in
-the folders the manifest must leave out. Blender runs in a subprocess: `bpy`
+the folders the manifest must leave out. Wheels already downloaded into the
+repository's wheels/ are copied along, so only missing ones are downloaded. Blender runs in a subprocess: `bpy`
 can be imported once per process and BLENDER_USER_RESOURCES must be set first.
 """
 
 import importlib.util
 import os
+import platform
 import runpy
 import shutil
 import subprocess
@@ -57,8 +60,8 @@ def _scripts_file(relative):
 
 
 @pytest.fixture(scope="module")
-def built_zip(tmp_path_factory):
-    """Run `make extension` on a copy of the repository; return the zip path."""
+def built_zips(tmp_path_factory):
+    """Run `make extension` on a copy of the repository; return {zip name: path}."""
     make = shutil.which("make")
     if make is None:
         pytest.skip("GNU make is not installed")
@@ -67,7 +70,13 @@ def built_zip(tmp_path_factory):
     src = tmp_path_factory.mktemp("extension") / "src"
     shutil.copytree(REPO, src, ignore=shutil.ignore_patterns(
         ".git", ".venv", ".pytest_cache", ".hypothesis", "__pycache__",
-        "dist", "build", "out", "wheels", "*.zip"))
+        "dist", "build", "out", "wheels", "*.zip", ".venv-compat"))
+    wheels = _manifest().get("wheels", [])
+    for wheel in wheels:
+        cached = REPO / wheel
+        if cached.is_file():
+            (src / wheel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(cached, src / wheel)
     for decoy in DECOYS:
         path = src / decoy
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -82,43 +91,78 @@ def built_zip(tmp_path_factory):
     run = subprocess.run(command, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, "make extension failed:\n{}\n{}".format(run.stdout, run.stderr)
 
-    zips = sorted((src / "dist").glob("paint_relief-*.zip"))
-    assert len(zips) == 1, "expected one package in dist/, found {}".format([z.name for z in zips])
-    return zips[0]
+    zips = {z.name: z for z in (src / "dist").glob("paint_relief-*.zip")}
+    version = _manifest()["version"]
+    expected = {"paint_relief-{}-{}.zip".format(version, p.replace("-", "_")) for p in _manifest()["platforms"]}
+    assert set(zips) == expected, "expected {} in dist/, found {}".format(sorted(expected), sorted(zips))
+    return zips
+
+
+def _manifest():
+    return tomllib.loads((REPO / "blender_manifest.toml").read_text(encoding="utf-8"))
+
+
+def _this_platform():
+    """Blender's name of this machine's platform, e.g. 'linux-x64'."""
+    system = {"Linux": "linux", "Darwin": "macos", "Windows": "windows"}[platform.system()]
+    machine = {"x86_64": "x64", "AMD64": "x64", "arm64": "arm64", "aarch64": "arm64"}[platform.machine()]
+    return "{}-{}".format(system, machine)
+
+
+@pytest.fixture(scope="module")
+def this_platforms_zip(built_zips):
+    name = "paint_relief-{}-{}.zip".format(_manifest()["version"], _this_platform().replace("-", "_"))
+    if name not in built_zips:
+        pytest.skip("no package is built for {}".format(_this_platform()))
+    return built_zips[name]
 
 
 def test_manifest_tags_are_blenders():
-    manifest = tomllib.loads((REPO / "blender_manifest.toml").read_text(encoding="utf-8"))
+    manifest = _manifest()
     valid = runpy.run_path(str(_scripts_file("modules/_bpy_internal/extensions/tags.py")))["addons"]
     unknown = sorted(set(manifest["tags"]) - valid)
     assert not unknown, "tags not in Blender's list: {}".format(unknown)
     assert manifest["id"] == "paint_relief" and manifest["type"] == "add-on"
 
 
-def test_package_holds_the_extension_and_nothing_else(built_zip):
-    size = built_zip.stat().st_size
-    assert size < MAX_ZIP_BYTES, "{} is {} bytes".format(built_zip.name, size)
+def test_manifest_is_complete():
+    manifest = _manifest()
+    assert len(manifest["tagline"]) < 64 and not manifest["tagline"].endswith(".")
+    assert manifest["permissions"]["files"] and not manifest["permissions"]["files"].endswith(".")
+    wheels = manifest["wheels"]
+    assert all(w.startswith("./wheels/scipy-") and w.endswith(".whl") for w in wheels), wheels
+    assert not any("numpy" in w for w in wheels), "numpy comes with Blender and must not be bundled"
+    assert len({w.split("-")[1] for w in wheels}) == 1, "every platform gets the same SciPy version"
 
-    with zipfile.ZipFile(built_zip) as archive:
-        names = set(archive.namelist())
-    for required in ("blender_manifest.toml", "__init__.py",
-                     "addon/__init__.py", "addon/properties.py", "addon/panels.py"):
-        assert required in names, "{} is missing from {}".format(required, built_zip.name)
+
+def test_packages_hold_the_extension_and_nothing_else(built_zips):
+    manifest = _manifest()
     core_files = sorted(p.relative_to(REPO).as_posix() for p in (REPO / "core").glob("*.py"))
     assert core_files, "core/ has no Python files"
-    missing = [name for name in core_files if name not in names]
-    assert not missing, "core files missing from the package: {}".format(missing)
+    for zip_path in built_zips.values():
+        with zipfile.ZipFile(zip_path) as archive:
+            infos = archive.infolist()
+        names = {info.filename for info in infos}
+        own = sum(info.compress_size for info in infos if not info.filename.startswith("wheels/"))
+        assert own < MAX_ZIP_BYTES, "{} holds {} bytes besides its wheels".format(zip_path.name, own)
+        for required in ("blender_manifest.toml", "__init__.py", "addon/__init__.py", "addon/properties.py",
+                         "addon/panels.py", "addon/ops_paint.py", "addon/ops_scene.py", "addon/canvas.py"):
+            assert required in names, "{} is missing from {}".format(required, zip_path.name)
+        missing = [name for name in core_files if name not in names]
+        assert not missing, "core files missing from {}: {}".format(zip_path.name, missing)
 
-    stray = sorted(name for name in names
-                   if name.split("/")[0] not in PACKAGE_ROOTS
-                   or any(part.startswith(".") or part == "__pycache__" for part in name.split("/"))
-                   or name.endswith((".pyc", ".blend1")))
-    assert not stray, "files that must stay out of the package: {}".format(stray)
+        wheels = sorted(name for name in names if name.startswith("wheels/"))
+        assert len(wheels) == 1 and "./" + wheels[0] in manifest["wheels"], (zip_path.name, wheels)
+        stray = sorted(name for name in names
+                       if name.split("/")[0] not in PACKAGE_ROOTS | {"wheels"}
+                       or any(part.startswith(".") or part == "__pycache__" for part in name.split("/"))
+                       or name.endswith((".pyc", ".blend1")))
+        assert not stray, "files that must stay out of {}: {}".format(zip_path.name, stray)
 
 
-def test_install_enable_disable_enable(built_zip, tmp_path):
+def test_install_enable_disable_enable(this_platforms_zip, tmp_path):
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "blender_user"))
-    run = subprocess.run([sys.executable, str(HELPER), str(built_zip)],
+    run = subprocess.run([sys.executable, str(HELPER), str(this_platforms_zip)],
                          capture_output=True, text=True, timeout=300, env=env, cwd=tmp_path)
     output = "stdout:\n{}\nstderr:\n{}".format(run.stdout, run.stderr)
     assert run.returncode == 0, output

@@ -37,7 +37,7 @@ SEEN_CLASSES = set()
 def extension_classes():
     """Return the classes the loaded ``addon`` modules declare, remembering them."""
     classes = set()
-    for name in ("properties", "panels"):
+    for name in ("properties", "ops_paint", "ops_scene", "panels"):
         module = sys.modules.get("{:s}.addon.{:s}".format(MODULE, name))
         if module is not None:
             classes.update(module.classes)
@@ -51,6 +51,9 @@ def registered(bpy):
     return {
         "enabled": MODULE in bpy.context.preferences.addons,
         "panel": hasattr(bpy.types, "VIEW3D_PT_paint_relief"),
+        "operators": all(hasattr(bpy.types, name) for name in (
+            "PAINT_RELIEF_OT_paint", "PAINT_RELIEF_OT_build_canvas",
+            "PAINT_RELIEF_OT_add_lights", "PAINT_RELIEF_OT_add_camera")),
         "classes": bool(classes) and all(cls.is_registered for cls in classes),
         "any class": any(cls.is_registered for cls in SEEN_CLASSES),
         "scene property": "paint_relief" in bpy.types.Scene.bl_rna.properties,

@@ -1,0 +1,187 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The ``paint_relief.paint`` operator: paint the chosen photograph into maps.
+
+The work is one call of ``core.paint_file``. Headless (``bpy.app.background``)
+and from scripts, ``execute()`` runs it synchronously. Interactively,
+``invoke()`` runs the same call in a worker thread and a modal timer shows its
+progress in the window manager's progress bar and the status bar; Esc asks
+the painter to stop (its cancel callback reads a ``threading.Event``). The
+painter is imported only when the operator runs.
+"""
+
+import os
+import threading
+
+import bpy
+from bpy.types import Operator
+
+from . import properties, values
+
+# Seconds between the modal operator's progress updates.
+TIMER_INTERVAL = 0.1
+
+
+def params_from_settings(settings):
+    """Return ``core.Params`` made from the scene settings; raise ValueError with a sentence.
+
+    Imports the painter (core) lazily: call only while an operator runs.
+    """
+    from .. import core
+
+    sizes = values.parse_sizes(settings.stroke_sizes)
+    if settings.brush == "CUSTOM":
+        brush = bpy.path.abspath(settings.brush_path) if settings.brush_path else ""
+        if not brush:
+            raise ValueError("Brush is Custom but no brush image is chosen.")
+        if not os.path.isfile(brush):
+            raise ValueError("Brush image {} does not exist.".format(brush))
+    else:
+        brush = settings.brush.lower()
+    return core.Params(
+        stroke_sizes=sizes,
+        detail=float(settings.detail),
+        layers=int(settings.layers),
+        seed=int(settings.seed),
+        brush=brush,
+        height_mode=settings.height_mode.lower(),
+    )
+
+
+def _prepare(operator, context):
+    """Check the inputs; return (image_path, output_dir, params) or None after reporting the problem."""
+    from .. import core
+
+    settings = context.scene.paint_relief
+    image_path = os.path.normpath(bpy.path.abspath(settings.image_path))
+    if not os.path.isfile(image_path):
+        operator.report({"ERROR"}, "Photograph {} does not exist.".format(image_path))
+        return None
+    try:
+        params = params_from_settings(settings).validate()
+    except (ValueError, core.PaintReliefError) as error:
+        operator.report({"ERROR"}, str(error))
+        return None
+    return image_path, properties.output_dir(context), params
+
+
+def _finish(operator, context, report):
+    """Record a finished painting on the settings and tell the user where it went."""
+    settings = context.scene.paint_relief
+    settings.painting_dir = report["output_dir"]
+    operator.report({"INFO"}, "Painted {} strokes into {}".format(report.get("strokes", "the"), report["output_dir"]))
+
+
+class PAINT_RELIEF_OT_paint(Operator):
+    """Paint the photograph stroke by stroke into colour, height and opacity maps"""
+
+    bl_idname = "paint_relief.paint"
+    bl_label = "Paint"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context):
+        settings = getattr(context.scene, "paint_relief", None)
+        return settings is not None and bool(settings.image_path)
+
+    def execute(self, context):
+        from .. import core
+
+        prepared = _prepare(self, context)
+        if prepared is None:
+            return {"CANCELLED"}
+        image_path, out_dir, params = prepared
+        try:
+            report = core.paint_file(image_path, out_dir, params)
+        except core.PaintReliefError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        except Exception as error:  # an unexpected failure still reaches the user as one line
+            self.report({"ERROR"}, "Painting {} failed: {}".format(image_path, error))
+            return {"CANCELLED"}
+        _finish(self, context, report)
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        if bpy.app.background:
+            return self.execute(context)
+        prepared = _prepare(self, context)
+        if prepared is None:
+            return {"CANCELLED"}
+        image_path, out_dir, params = prepared
+
+        self._cancel = threading.Event()
+        self._state = {"fraction": 0.0, "message": "Starting", "report": None, "error": None}
+        self._thread = threading.Thread(
+            target=self._work, args=(image_path, out_dir, params), name="paint_relief", daemon=True)
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(TIMER_INTERVAL, window=context.window)
+        wm.progress_begin(0, 100)
+        wm.modal_handler_add(self)
+        self._thread.start()
+        return {"RUNNING_MODAL"}
+
+    def _work(self, image_path, out_dir, params):
+        """Worker thread: the painter only; never touches bpy data."""
+        from .. import core
+
+        state = self._state
+
+        def progress(fraction, message):
+            state["fraction"], state["message"] = fraction, message
+
+        try:
+            state["report"] = core.paint_file(image_path, out_dir, params,
+                                              progress=progress, cancel=self._cancel.is_set)
+        except core.PaintReliefError as error:
+            state["error"] = str(error)
+        except Exception as error:
+            state["error"] = "Painting {} failed: {}".format(image_path, error)
+
+    def modal(self, context, event):
+        if event.type == "ESC":
+            self._cancel.set()
+            return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+
+        state = self._state
+        if self._thread.is_alive():
+            context.window_manager.progress_update(int(100 * state["fraction"]))
+            text = "Paint Relief: {:.0f}% {} (Esc to cancel)".format(100 * state["fraction"], state["message"])
+            if self._cancel.is_set():
+                text = "Paint Relief: cancelling..."
+            context.workspace.status_text_set(text)
+            return {"RUNNING_MODAL"}
+
+        self._end(context)
+        if state["error"] is not None:
+            level = {"WARNING"} if self._cancel.is_set() else {"ERROR"}
+            self.report(level, state["error"])
+            return {"CANCELLED"}
+        _finish(self, context, state["report"])
+        return {"FINISHED"}
+
+    def cancel(self, context):
+        """Blender ends the operator (e.g. the file closes): stop the worker and clean up."""
+        self._cancel.set()
+        self._thread.join()
+        self._end(context)
+
+    def _end(self, context):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+
+
+classes = (PAINT_RELIEF_OT_paint,)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,104 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Pure helpers of the add-on: settings text to values, physical sizes, grids, directions.
+
+Nothing here imports ``bpy`` (NumPy only, imported where needed), so these
+functions are tested without Blender. Lengths are metres unless a name says
+otherwise; angles are radians.
+"""
+
+import math
+
+# Files of a painted folder the canvas needs (written by core.export.write_painting).
+COLOR_MAP = "color.exr"
+HEIGHT_MAP = "height.exr"
+OPACITY_MAP = "opacity.exr"
+CANVAS_MAPS = (COLOR_MAP, HEIGHT_MAP, OPACITY_MAP)
+
+
+def parse_sizes(text):
+    """Parse stroke sizes such as ``"64, 32,16 8"`` into a tuple of positive ints.
+
+    Commas and/or spaces separate the sizes. Raises ValueError with a sentence
+    naming the bad entry.
+    """
+    parts = [p for p in text.replace(",", " ").split() if p]
+    if not parts:
+        raise ValueError("Stroke sizes are empty: give sizes in pixels such as 64,32,16,8,4.")
+    sizes = []
+    for part in parts:
+        try:
+            value = int(part)
+        except ValueError:
+            raise ValueError("Stroke size {!r} is not a whole number of pixels.".format(part)) from None
+        if value <= 0:
+            raise ValueError("Stroke size {} must be positive.".format(value))
+        sizes.append(value)
+    return tuple(sizes)
+
+
+def canvas_size(map_width, map_height, width_cm):
+    """Physical canvas size (width, height) in metres for a map of ``map_width`` x ``map_height`` px.
+
+    The width is ``width_cm`` centimetres; the height follows the map's aspect.
+    """
+    if map_width <= 0 or map_height <= 0:
+        raise ValueError("The map size must be positive, got {} x {}.".format(map_width, map_height))
+    width = width_cm / 100.0
+    return width, width * map_height / map_width
+
+
+def grid_resolution(map_width, map_height, pixels_per_vertex=2.0, max_vertices=300_000):
+    """Vertices (nx, ny) along x and y of a grid for a map of ``map_width`` x ``map_height`` px.
+
+    One vertex per ``pixels_per_vertex`` map pixels, plus one for the far edge,
+    reduced evenly so that ``nx * ny <= max_vertices``; at least 2 x 2.
+    """
+    nx = map_width / pixels_per_vertex + 1.0
+    ny = map_height / pixels_per_vertex + 1.0
+    if nx * ny > max_vertices:
+        scale = math.sqrt(max_vertices / (nx * ny))
+        nx, ny = nx * scale, ny * scale
+    return max(2, int(nx)), max(2, int(ny))
+
+
+def grid_arrays(nx, ny, width, height):
+    """Arrays of a flat ``width`` x ``height`` grid centred on the origin, in the XY plane.
+
+    Returns (co, loops, loop_starts, uv):
+    co          float32 (nx*ny*3,) vertex positions, row by row from -y to +y
+    loops       int32 (F*4,) vertex indices of the quads, counter-clockwise seen from +z
+    loop_starts int32 (F,) first loop of each quad (F = (nx-1)*(ny-1))
+    uv          float32 (F*4*2,) per-loop UVs: (0, 0) at the -x -y corner, (1, 1) at +x +y
+    """
+    import numpy as np
+
+    u = np.linspace(0.0, 1.0, nx, dtype=np.float64)
+    v = np.linspace(0.0, 1.0, ny, dtype=np.float64)
+    uu, vv = np.meshgrid(u, v)  # (ny, nx)
+    co = np.stack([(uu - 0.5) * width, (vv - 0.5) * height, np.zeros_like(uu)], axis=-1)
+    index = np.arange(nx * ny, dtype=np.int32).reshape(ny, nx)
+    quads = np.stack([index[:-1, :-1], index[:-1, 1:], index[1:, 1:], index[1:, :-1]], axis=-1).reshape(-1)
+    uv_vertex = np.stack([uu, vv], axis=-1).reshape(-1, 2)
+    faces = (nx - 1) * (ny - 1)
+    return (co.astype(np.float32).reshape(-1), quads.astype(np.int32),
+            (np.arange(faces, dtype=np.int32) * 4), uv_vertex[quads].astype(np.float32).reshape(-1))
+
+
+def light_direction(azimuth, elevation):
+    """Unit vector (x, y, z) from the canvas towards a light.
+
+    The canvas lies in the XY plane facing +z, the image's right along +x and
+    its top along +y. ``azimuth`` is measured in the canvas plane from +x
+    (image right) counter-clockwise towards +y (image top), as seen from the
+    camera above; ``elevation`` is the angle above the canvas plane.
+    """
+    c = math.cos(elevation)
+    return (c * math.cos(azimuth), c * math.sin(azimuth), math.sin(elevation))
+
+
+def wave_scale_for_period(period):
+    """Scale of Blender's Wave Texture (bands, sine profile) giving ``period`` object units between bands.
+
+    The bands are sin(20 * scale * coordinate), so the period is 2 pi / (20 scale).
+    """
+    return 2.0 * math.pi / (20.0 * period)

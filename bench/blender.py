@@ -1,0 +1,112 @@
+"""Benchmark of the Blender side: building the canvas and a Cycles preview render.
+
+Paints a 1-megapixel photograph once (the painter is not what is timed), then
+runs each case in its own subprocess (bpy can be imported once per process;
+BLENDER_USER_RESOURCES points at a temporary folder) and prints the seconds
+and each subprocess's own peak resident memory (ru_maxrss):
+  build     paint_relief.build_canvas on the 1 MP maps, for each displacement method
+  render    a 512 px Cycles render (CPU, 16 samples) of the canvas with its lights
+            and camera, for each displacement method
+Usage: python bench/blender.py [--megapixels 1] [--size 512] [--samples 16]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+METHODS = ("MESH", "CYCLES_ADAPTIVE")
+
+# Runs inside the subprocess: argv = painted folder, method, case, render size, samples, package dir.
+CASE = r'''
+import json, os, sys, time
+painted, method, case, size, samples, package_dir = sys.argv[1:7]
+sys.path.insert(0, package_dir)
+import bpy
+bpy.ops.wm.read_factory_settings(use_empty=True)
+import paint_relief
+paint_relief.register()
+scene = bpy.context.scene
+settings = scene.paint_relief
+settings.painting_dir = painted
+settings.displacement_method = method
+t0 = time.perf_counter()
+assert bpy.ops.paint_relief.build_canvas() == {"FINISHED"}
+bpy.context.evaluated_depsgraph_get()  # the modifiers' evaluation is part of building
+figures = {"build": time.perf_counter() - t0}
+if case == "render":
+    bpy.ops.paint_relief.add_lights()
+    bpy.ops.paint_relief.add_camera()
+    render = scene.render
+    render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = int(samples)
+    render.resolution_percentage = max(1, round(100 * int(size) / max(render.resolution_x, render.resolution_y)))
+    render.filepath = os.path.join(os.path.dirname(painted), "preview_" + method.lower() + ".png")
+    t0 = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    figures["render"] = time.perf_counter() - t0
+    figures["render_size"] = [render.resolution_x * render.resolution_percentage // 100,
+                              render.resolution_y * render.resolution_percentage // 100]
+import resource
+figures["peak_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+print("FIGURES " + json.dumps(figures), flush=True)
+'''
+
+
+def run_case(work: Path, painted: Path, method: str, case: str, size: int, samples: int) -> dict:
+    """One case in a fresh Python process; its figures, with the process's own peak memory (ru_maxrss) in MiB."""
+    package_dir = work / "pkg"
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user"))
+    run = subprocess.run([sys.executable, "-c", CASE, str(painted), method, case, str(size), str(samples),
+                          str(package_dir)], capture_output=True, text=True, env=env, cwd=work)
+    lines = [line for line in run.stdout.splitlines() if line.startswith("FIGURES ")]
+    if run.returncode != 0 or not lines:
+        raise SystemExit("{} {} failed:\n{}\n{}".format(case, method, run.stdout[-3000:], run.stderr[-3000:]))
+    return json.loads(lines[-1][len("FIGURES "):])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--megapixels", type=float, default=1.0)
+    parser.add_argument("--size", type=int, default=512, help="longer side of the preview render in pixels")
+    parser.add_argument("--samples", type=int, default=16)
+    args = parser.parse_args()
+
+    sys.path.insert(0, str(ROOT / "bench"))
+    from common import photo  # noqa: E402
+
+    from core import Params, io  # noqa: E402
+    from core.api import paint_file  # noqa: E402
+
+    with tempfile.TemporaryDirectory(prefix="paint_relief_bench_") as tmp:
+        work = Path(tmp)
+        (work / "pkg").mkdir()
+        os.symlink(ROOT, work / "pkg" / "paint_relief")
+        image = photo(args.megapixels)
+        io.write_png(work / "photo.png", image)
+        t0 = time.perf_counter()
+        paint_file(work / "photo.png", work / "painted", Params())
+        h, w = image.shape[:2]
+        print(f"painted {w}x{h} ({h * w / 1e6:.2f} MP) in {time.perf_counter() - t0:.1f} s (not part of the figures)")
+        print(f"{'case':<8} {'method':<16} {'seconds':>8} {'peak MiB':>9}  note")
+        for case in ("build", "render"):
+            for method in METHODS:
+                figures = run_case(work, work / "painted", method, case, args.size, args.samples)
+                seconds = figures[case]
+                peak = f"{figures['peak_mib']:>9.0f}"
+                note = ("target <= 3 s" if case == "build" else
+                        "{}x{} px, {} samples, target <= 30 s (build {:.2f} s)".format(
+                            *figures["render_size"], args.samples, figures["build"]))
+                print(f"{case:<8} {method:<16} {seconds:>8.2f} {peak}  {note}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
