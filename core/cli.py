@@ -64,8 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     paint_p = sub.add_parser(
         "paint", help="paint a photograph stroke by stroke and write its relief maps",
-        description="Write color.exr (scene-linear RGB), height.exr, opacity.exr, painting.png, "
-                    "strokes.json and report.json.")
+        description="Write color.exr (scene-linear RGB), height.exr, opacity.exr, orientation.exr, "
+                    "normal.exr, painting.png, lit_paper.png, strokes.json and report.json.")
     _add_analysis_options(paint_p)
     paint_p.add_argument("--layers", type=int, default=DEFAULTS.layers, metavar="N",
                          help="layers of strokes, each one pass over all grids (default: %(default)s)")
