@@ -25,10 +25,10 @@ MAX_INTENSITY = 1.0 - 1e-6  # keeps log(1 - I) finite for full-contact bristles
 class Footprint:
     """What one stroke does to the pixels it touches.
 
-    pixels:        int64 (U,) flat indices (row * W + column), ascending, unique.
+    pixels:        int32 (U,) flat indices (row * W + column), ascending, unique.
     transmittance: float64 (U,) prod (1 - I) over all contributions: the share of
                    the old canvas colour that shows through.
-    paint:         float64 (U, 3) sum_s I_s C_s prod_{t>s} (1 - I_t): the paint laid on top.
+    paint:         float32 (U, 3) sum_s I_s C_s prod_{t>s} (1 - I_t): the paint laid on top.
     height:        float32 (U,) mean bristle intensity of the stamps that covered the pixel.
     distance:      float32 (U,) distance (px) from the pixel centre to the nearest path sample.
     """
@@ -69,17 +69,17 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     offsets of an even-width brush land on distinct pixels); those off the canvas are dropped.
     """
     h, w = shape
-    x, y = stamp_positions(samples, angles, along, across)
-    ix = np.floor(x + 0.5).astype(np.int64).ravel()
-    iy = np.floor(y + 0.5).astype(np.int64).ravel()
+    x, y = stamp_positions(samples.astype(np.float32), angles.astype(np.float32), along, across)
+    ix = np.floor(x + 0.5).astype(np.int32).ravel()
+    iy = np.floor(y + 0.5).astype(np.int32).ravel()
     n_bristles = len(intensity)
     inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
-    contribution = np.flatnonzero(inside)
+    contribution = np.flatnonzero(inside).astype(np.int32)
     if contribution.size == 0:
         empty = np.zeros(0)
-        return Footprint(np.zeros(0, np.int64), empty, np.zeros((0, 3)), empty.astype(np.float32),
+        return Footprint(np.zeros(0, np.int32), empty, np.zeros((0, 3)), empty.astype(np.float32),
                          empty.astype(np.float32))
-    pixel = iy[contribution] * w + ix[contribution]
+    pixel = iy[contribution] * np.int32(w) + ix[contribution]  # int32: the stable sort is much faster than on int64
     order = np.argsort(pixel, kind="stable")
     contribution = contribution[order]
     pixel = pixel[order]
@@ -93,20 +93,23 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     ends = np.append(starts[1:], len(pixel))
     counts = ends - starts
 
-    strength = np.minimum(intensity[bristle].astype(np.float64), MAX_INTENSITY)
-    log_keep = np.log1p(-strength)
+    bristle_strength = np.minimum(np.asarray(intensity, dtype=np.float64), MAX_INTENSITY)
+    bristle_log_keep = np.log1p(-bristle_strength)
+    strength = bristle_strength[bristle]
+    log_keep = bristle_log_keep[bristle]
     cumulative = np.cumsum(log_keep)
     segment_total_cum = np.repeat(cumulative[ends - 1], counts)
     after = np.exp(segment_total_cum - cumulative)          # prod over later contributions of (1 - I)
-    weight = strength * after
-    paint = np.add.reduceat(weight[:, None] * colours[bristle], starts, axis=0)
+    weight = (strength * after).astype(np.float32)
+    paint = np.add.reduceat(weight[:, None] * np.asarray(colours, dtype=np.float32)[bristle], starts, axis=0)
     before_start = cumulative[starts] - log_keep[starts]
     transmittance = np.exp(cumulative[ends - 1] - before_start)
     height = (np.add.reduceat(strength, starts) / counts).astype(np.float32)
 
-    dx = (pixel % w) - samples[stamp, 0]
-    dy = (pixel // w) - samples[stamp, 1]
-    distance = np.minimum.reduceat(np.hypot(dx, dy), starts).astype(np.float32)
+    samples32 = samples.astype(np.float32)
+    dx = (pixel % np.int32(w)).astype(np.float32) - samples32[stamp, 0]
+    dy = (pixel // np.int32(w)).astype(np.float32) - samples32[stamp, 1]
+    distance = np.minimum.reduceat(np.hypot(dx, dy), starts)
     return Footprint(pixel[starts], transmittance, paint, height, distance)
 
 

@@ -158,7 +158,7 @@ class Params:
              f"Unknown style {self.style!r}; choose impressionist, expressionist, colorist_wash or pointillist.")
         need(self.layout in LAYOUTS, f"Unknown layout {self.layout!r}; choose paper or hertzmann98.")
         need(self.renderer in RENDERERS, f"Unknown renderer {self.renderer!r}; choose bristles or lines.")
-        need(self.max_megapixels > 0, "The pixel limit must be positive.")
+        need(0 < self.max_megapixels <= 2000, "The pixel limit must be positive and at most 2000 megapixels.")
         need(isinstance(self.seed, int) and self.seed >= 0, "The seed must be a whole number >= 0.")
         return self
 
