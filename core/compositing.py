@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 MAX_INTENSITY = 1.0 - 1e-6  # keeps log(1 - I) finite for full-contact bristles
+MAX_ROWS_PER_PIXEL = 16  # contributions a pixel gets from one stroke before stamps are spaced out
 
 
 @dataclass
@@ -60,11 +61,28 @@ def stamp_positions(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     return x, y
 
 
+def stamp_stride(brush_length: int, max_rows: int = MAX_ROWS_PER_PIXEL) -> int:
+    """Path samples per stamp for a brush ``brush_length`` px along: 1 up to ``max_rows``, then more.
+
+    A brush L rows long stamped every pixel lays L contributions on each pixel
+    it crosses, so the cost of a stroke grows with its width times its area.
+    Stamping every k = round(L / max_rows) samples, each stamp counted k times
+    (see stroke_footprint's ``repeat``), keeps about ``max_rows`` contributions
+    per pixel and the painter's cost linear in pixels. Brushes up to
+    ``max_rows`` rows (all standard sizes of a 1-megapixel image with the
+    shipped brushes) are stamped at every sample.
+    """
+    return max(1, int(round(brush_length / max_rows)))
+
+
 def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray,
-                     intensity: np.ndarray, colours: np.ndarray, shape: tuple) -> Footprint:
+                     intensity: np.ndarray, colours: np.ndarray, shape: tuple, repeat: int = 1) -> Footprint:
     """Composite a whole stroke: the Footprint of B bristles stamped at S samples on an (H, W) canvas.
 
     intensity (B,) in (0, 1]; colours (B, 3) sRGB, one per bristle, kept along the whole path.
+    repeat: each stamp stands for this many identical stamps, so a bristle of
+    intensity I lets (1 - I)^repeat of the colour below show through; the
+    height still averages the bristles' own intensities.
     Contributions go to the nearest pixel (halves round up, so the half-integer
     offsets of an even-width brush land on distinct pixels); those off the canvas are dropped.
     """
@@ -94,13 +112,14 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     counts = ends - starts
 
     bristle_strength = np.minimum(np.asarray(intensity, dtype=np.float64), MAX_INTENSITY)
-    bristle_log_keep = np.log1p(-bristle_strength)
+    bristle_log_keep = repeat * np.log1p(-bristle_strength)
     strength = bristle_strength[bristle]
     log_keep = bristle_log_keep[bristle]
+    opacity = -np.expm1(bristle_log_keep)[bristle] if repeat > 1 else strength  # 1 - (1 - I)^repeat
     cumulative = np.cumsum(log_keep)
     segment_total_cum = np.repeat(cumulative[ends - 1], counts)
     after = np.exp(segment_total_cum - cumulative)          # prod over later contributions of (1 - I)
-    weight = (strength * after).astype(np.float32)
+    weight = (opacity * after).astype(np.float32)
     paint = np.add.reduceat(weight[:, None] * np.asarray(colours, dtype=np.float32)[bristle], starts, axis=0)
     before_start = cumulative[starts] - log_keep[starts]
     transmittance = np.exp(cumulative[ends - 1] - before_start)

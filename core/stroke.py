@@ -8,7 +8,7 @@ import numpy as np
 
 from .brush import BrushTip
 from .canvas import Canvas
-from .compositing import stroke_footprint
+from .compositing import stamp_stride, stroke_footprint
 from .params import Params
 from .path import axial_difference, catmull_rom, clip_path, tangent_angles, trace_control_points
 
@@ -96,7 +96,10 @@ def paint_stroke(canvas: Canvas, reference: np.ndarray, orientation: np.ndarray,
     start_index = control_index[anchor_index]
     kept, kept_anchor = clip_path(samples, start_index, keep)
     angles = tangent_angles(kept, angle)
-    footprint = stroke_footprint(kept, angles, tip.along, tip.across, tip.intensity, colours, canvas.height.shape)
+    stride = stamp_stride(tip.length)
+    stamps = np.unique(np.append(np.arange(0, len(kept), stride), len(kept) - 1))
+    footprint = stroke_footprint(kept[stamps], angles[stamps], tip.along, tip.across, tip.intensity, colours,
+                                 canvas.height.shape, repeat=stride)
     canvas.apply(footprint, params.opacity_width * size, params.height_mode, params.height_build)
 
     first = start_index - kept_anchor

@@ -498,3 +498,20 @@ def test_grids_are_visited_largest_first():
     grids = np.array([[0, 0, 2, 2], [2, 0, 10, 8], [0, 2, 2, 8], [10, 0, 12, 2]], dtype=np.int32)
     # areas 4, 64, 12, 4: largest first, ties in partition order
     assert grid_order(grids).tolist() == [1, 2, 0, 3]
+
+
+def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
+    from core.compositing import stamp_stride, stroke_footprint
+
+    sample = np.array([[5.0, 5.0]])
+    angle = np.array([0.0])
+    along, across = np.array([0.0], np.float32), np.array([0.0], np.float32)
+    intensity = np.array([0.6], np.float32)
+    colour = np.array([[0.2, 0.4, 0.8]], np.float32)
+    once = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10))
+    thrice = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10), repeat=3)
+    assert once.pixels.tolist() == thrice.pixels.tolist()
+    np.testing.assert_allclose(thrice.transmittance, 0.4 ** 3, rtol=1e-6)
+    np.testing.assert_allclose(thrice.paint, colour * (1 - 0.4 ** 3), rtol=1e-5)
+    np.testing.assert_allclose(thrice.height, once.height)  # height is the bristles' own mean contact
+    assert [stamp_stride(n) for n in (1, 16, 24, 32, 64)] == [1, 1, 2, 2, 4]
