@@ -32,6 +32,9 @@ from . import values
 
 ROLE_KEY = "paint_relief_role"
 MAP_SIZE_KEY = "paint_relief_map_size"
+# Absolute folder of the painted maps the canvas was built from, and its paint thickness in metres.
+PAINTING_DIR_KEY = "paint_relief_painting_dir"
+THICKNESS_KEY = "paint_relief_thickness"
 CANVAS_NAME = "Paint Relief Canvas"
 MATERIAL_NAME = "Paint Relief Canvas"
 DISPLACE_TEXTURE_NAME = "Paint Relief Height"
@@ -382,6 +385,8 @@ def build_canvas(context, folder, width_cm, thickness_mm, method):
         if old is not None and old.users == 0:
             bpy.data.meshes.remove(old)
     obj[MAP_SIZE_KEY] = (int(map_w), int(map_h))
+    obj[PAINTING_DIR_KEY] = os.path.normpath(bpy.path.abspath(folder))
+    obj[THICKNESS_KEY] = thickness
     obj.location = (0.0, 0.0, 0.0)
     obj.rotation_euler = (0.0, 0.0, 0.0)
     obj.scale = (1.0, 1.0, 1.0)
@@ -401,3 +406,39 @@ def build_canvas(context, folder, width_cm, thickness_mm, method):
         set_material_displacement(material, "BUMP")
         add_displace(obj, images[values.HEIGHT_MAP], thickness)
     return obj
+
+
+# ---------------------------------------------------------------------------
+# relief on and off (the lighting comparison's flat renders)
+
+
+def canvas_thickness(obj):
+    """Metres of paint of height 1 the canvas was built with."""
+    if THICKNESS_KEY in obj:
+        return float(obj[THICKNESS_KEY])
+    material = obj.active_material
+    bump = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBump"), None) if material else None
+    if bump is None:
+        raise CanvasError("Canvas {} has no paint thickness: build the canvas again.".format(obj.name))
+    return float(bump.inputs["Distance"].default_value)  # the Bump's distance is never switched off
+
+
+def set_relief(obj, enabled):
+    """Switch the canvas's paint relief on (as built) or off (a flat canvas with the same colours).
+
+    Off: the Displace modifier's strength, the material Displacement's scale and
+    the fine Bump's strength are 0, so geometry and shading normals are those
+    of a flat plane; colour, roughness and everything else stay. On: the values
+    ``build_canvas`` set. Works for both displacement methods.
+    """
+    thickness = canvas_thickness(obj)
+    modifier = obj.modifiers.get(DISPLACE_MODIFIER)
+    if modifier is not None:
+        modifier.strength = thickness if enabled else 0.0
+    material = obj.active_material
+    if material is not None and material.node_tree is not None:
+        for node in material.node_tree.nodes:
+            if node.bl_idname == "ShaderNodeDisplacement":
+                node.inputs["Scale"].default_value = thickness if enabled else 0.0
+            elif node.bl_idname == "ShaderNodeBump":
+                node.inputs["Strength"].default_value = FINE_BUMP_STRENGTH if enabled else 0.0

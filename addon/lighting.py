@@ -50,12 +50,16 @@ def aim_sun(obj, azimuth, elevation, distance=1.0):
     obj.location = direction * distance
 
 
-def sun_strength(irradiance, elevation):
-    """Sun strength that gives a flat canvas ``irradiance`` when the Sun stands ``elevation`` above it."""
-    return irradiance / max(math.sin(elevation), MIN_SINE)
+def sun_strength(brightness, elevation):
+    """Sun strength (irradiance, W/m^2) at which white paint on a flat canvas renders at ``brightness``.
+
+    Cycles gives a Lambertian surface of albedo a under irradiance E the
+    radiance a E / pi; the Sun stands ``elevation`` (radians) above the canvas.
+    """
+    return math.pi * brightness / max(math.sin(elevation), MIN_SINE)
 
 
-def add_lights(context, azimuth, elevation, irradiance, fill):
+def add_lights(context, azimuth, elevation, brightness, fill):
     """Create or update the key (and fill) lights and the world; return (key, fill or None)."""
     scene = context.scene
     canvas = find_role(scene, "canvas")
@@ -63,14 +67,14 @@ def add_lights(context, azimuth, elevation, irradiance, fill):
 
     key = _sun(scene, "key_light", KEY_NAME)
     aim_sun(key, azimuth, elevation, distance)
-    key.data.energy = sun_strength(irradiance, elevation)
+    key.data.energy = sun_strength(brightness, elevation)
     key.data.angle = KEY_ANGLE
 
     fill_obj = find_role(scene, "fill_light")
     if fill:
         fill_obj = _sun(scene, "fill_light", FILL_NAME)
         aim_sun(fill_obj, azimuth + math.pi, FILL_ELEVATION, distance)
-        fill_obj.data.energy = FILL_FRACTION * sun_strength(irradiance, FILL_ELEVATION)
+        fill_obj.data.energy = FILL_FRACTION * sun_strength(brightness, FILL_ELEVATION)
         fill_obj.data.angle = FILL_ANGLE
     elif fill_obj is not None:
         light = fill_obj.data

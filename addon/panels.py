@@ -1,10 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """User interface: the Paint Relief tab of the 3D Viewport sidebar (N panel).
 
-A parent panel shows which painting the scene uses; sub-panels Paint, Canvas
-and Lighting hold the settings and the operators. Buttons are greyed out by
+A parent panel shows which painting the scene uses; sub-panels Paint, Canvas,
+Lighting and Compare hold the settings and the operators. Buttons are greyed out by
 the operators' poll() until they can run.
 """
+
+import os
 
 import bpy
 from bpy.types import Panel
@@ -98,11 +100,35 @@ class VIEW3D_PT_paint_relief_lighting(_PaintReliefPanel, Panel):
         layout.operator("paint_relief.add_lights", icon="LIGHT_SUN")
 
 
+class VIEW3D_PT_paint_relief_compare(_PaintReliefPanel, Panel):
+    """Render the canvas under a sweep of key lights with and without relief and compare with the 2-D lighting"""
+
+    bl_label = "Compare"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self._layout()
+        settings = context.scene.paint_relief
+        layout.prop(settings, "compare_azimuths")
+        layout.prop(settings, "compare_samples")
+        layout.prop(settings, "light_elevation")
+        layout.prop(settings, "compare_output_dir")
+        if not settings.compare_output_dir:
+            row = layout.row()
+            row.alignment = "RIGHT"
+            base = bpy.path.abspath(settings.output_dir) if settings.output_dir else \
+                properties.default_output_dir(context, create=False)
+            row.label(text=os.path.join(base, "comparison"), icon="INFO")
+        layout.operator("paint_relief.render_comparison", icon="RENDER_STILL")
+
+
 classes = (
     VIEW3D_PT_paint_relief,
     VIEW3D_PT_paint_relief_paint,
     VIEW3D_PT_paint_relief_canvas,
     VIEW3D_PT_paint_relief_lighting,
+    VIEW3D_PT_paint_relief_compare,
 )
 
 

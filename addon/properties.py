@@ -54,6 +54,18 @@ def output_dir(context):
     return os.path.normpath(bpy.path.abspath(path))
 
 
+def comparison_dir(context):
+    """Return the absolute folder the lighting comparison writes into.
+
+    The user's ``compare_output_dir`` when set, else ``comparison`` inside
+    :func:`output_dir`; blend-relative paths are made absolute.
+    """
+    settings = context.scene.paint_relief
+    if settings.compare_output_dir:
+        return os.path.normpath(bpy.path.abspath(settings.compare_output_dir))
+    return os.path.join(output_dir(context), "comparison")
+
+
 class PaintReliefSettings(PropertyGroup):
     """Per-scene settings of Paint Relief."""
 
@@ -172,14 +184,38 @@ class PaintReliefSettings(PropertyGroup):
         default=math.radians(30.0), min=math.radians(1.0), max=math.radians(90.0), subtype="ANGLE",
     )
     light_strength: FloatProperty(
-        name="Strength",
-        description="Irradiance the key light gives a flat canvas (1 makes white paint render white)",
+        name="Brightness",
+        description="Brightness of the key light on a flat canvas: 1 makes white paint render white",
         default=0.8, min=0.0, soft_max=5.0,
     )
     fill_light: BoolProperty(
         name="Fill Light",
         description="Add a soft, weak light from the opposite side so shadowed paint keeps some colour",
         default=True,
+    )
+
+    # --- the lighting comparison ---
+    compare_azimuths: IntProperty(
+        name="Light Directions",
+        description=(
+            "Number of key light azimuths of the comparison sweep, evenly spaced around the canvas from its right "
+            "edge; each is rendered with and without relief"
+        ),
+        default=8, min=1, soft_max=36, max=360,
+    )
+    compare_samples: IntProperty(
+        name="Samples",
+        description="Cycles samples per pixel of each comparison render",
+        default=16, min=1, soft_max=256,
+    )
+    compare_output_dir: StringProperty(
+        name="Comparison Folder",
+        description=(
+            "Folder for the comparison renders, figures and pictures. Leave empty to use a 'comparison' folder "
+            "inside the painting output folder"
+        ),
+        subtype="DIR_PATH",
+        options=_PATH_OPTIONS,
     )
 
 

@@ -102,3 +102,53 @@ def wave_scale_for_period(period):
     The bands are sin(20 * scale * coordinate), so the period is 2 pi / (20 scale).
     """
     return 2.0 * math.pi / (20.0 * period)
+
+
+# --- the lighting comparison (addon/compare.py, sample_scenes/compare.py) ---------
+
+def sweep_azimuths(count):
+    """``count`` light azimuths in degrees, evenly spaced from 0: [0, 360/count, ...].
+
+    Raises ValueError (one sentence) when ``count`` is below 1.
+    """
+    count = int(count)
+    if count < 1:
+        raise ValueError("The light sweep needs at least one azimuth, got {}.".format(count))
+    return [360.0 * i / count for i in range(count)]
+
+
+def blender_azimuth_deg(painter_deg):
+    """The painter's azimuth (degrees from image +x towards image DOWN) in Blender's convention.
+
+    Blender's (``light_direction``) turns from +x towards image UP, so the angle
+    changes sign: ``(-painter_deg) mod 360``. The mapping is its own inverse.
+    """
+    return (-float(painter_deg)) % 360.0
+
+
+def render_file_name(kind, azimuth_deg):
+    """File name of a sweep render: ``relief_045.exr`` / ``flat_045.exr`` (azimuth in the painter's degrees)."""
+    if kind not in ("relief", "flat"):
+        raise ValueError("A sweep render is 'relief' or 'flat', not {!r}.".format(kind))
+    return "{}_{:03.0f}.exr".format(kind, azimuth_deg)
+
+
+def check_render_names(azimuths_deg):
+    """Raise ValueError (one sentence) when two azimuths would share one render file name."""
+    seen = {}
+    for azimuth in azimuths_deg:
+        name = render_file_name("relief", azimuth)
+        if name in seen:
+            raise ValueError("Light azimuths {:g} and {:g} degrees would share the render {}: "
+                             "use fewer azimuths.".format(seen[name], azimuth, name))
+        seen[name] = azimuth
+
+
+def relief_pixels(thickness_mm, width_cm, map_width):
+    """The canvas relief in the 2-D bump model's unit: pixel widths per height unit.
+
+    Paint of height 1 stands ``thickness_mm`` high on a canvas ``width_cm``
+    wide that holds ``map_width`` map pixels.
+    """
+    pixel_mm = 10.0 * width_cm / map_width
+    return thickness_mm / pixel_mm
