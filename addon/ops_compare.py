@@ -206,12 +206,4 @@ class PAINT_RELIEF_OT_render_comparison(Operator):
 
 classes = (PAINT_RELIEF_OT_render_comparison,)
 
-
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -81,12 +81,4 @@ class PAINT_RELIEF_OT_add_camera(Operator):
 
 classes = (PAINT_RELIEF_OT_build_canvas, PAINT_RELIEF_OT_add_lights, PAINT_RELIEF_OT_add_camera)
 
-
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)
