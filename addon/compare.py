@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The lighting comparison's Blender half: render the canvas with and without relief under a light sweep.
 
-For every light azimuth (degrees, the PAINTER's convention: from image +x,
-the right, towards image +y, DOWN) the key light is turned there and the
+For every light azimuth (degrees, the painter's convention: from the image's
+right edge towards its bottom edge) the key light is turned there and the
 canvas is rendered twice with Cycles: with its paint relief
 (``relief_AAA.exr``) and with the relief switched off (``flat_AAA.exr``),
 scene-linear float RGB OpenEXR at exactly the map's pixel size, 'Standard'
@@ -109,10 +109,9 @@ def key_brightness(key):
 
 
 def aim_key(key, azimuth_deg, elevation_deg, brightness, distance):
-    """Turn the key Sun to the PAINTER's ``azimuth_deg`` (converted to Blender's) and ``elevation_deg``."""
-    blender_az = math.radians(values.blender_azimuth_deg(azimuth_deg))
+    """Turn the key Sun to ``azimuth_deg`` (the painter's convention) and ``elevation_deg``."""
     elevation = math.radians(elevation_deg)
-    lighting.aim_sun(key, blender_az, elevation, distance)
+    lighting.aim_sun(key, math.radians(azimuth_deg), elevation, distance)
     key.data.energy = lighting.sun_strength(brightness, elevation)
 
 

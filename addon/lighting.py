@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Lights for the canvas: a raking key Sun, an optional soft fill Sun and a dim world.
 
-Angles follow :func:`values.light_direction`: azimuth in the canvas plane
-from the painting's right edge (+x), counter-clockwise seen from the camera;
-elevation above the canvas plane. Objects are found again by their role, so
+Angles follow :func:`values.light_direction`, the painter's convention:
+azimuth in the canvas plane from the painting's right edge towards its bottom
+edge (0 right, 90 bottom, 180 left, 270 top); elevation above the canvas. Objects are found again by their role, so
 adding lights again updates the same lights.
 """
 

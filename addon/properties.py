@@ -173,10 +173,10 @@ class PaintReliefSettings(PropertyGroup):
     light_azimuth: FloatProperty(
         name="Azimuth",
         description=(
-            "Direction the key light comes from, in the canvas plane: 0 is the painting's right edge, "
-            "angles turn counter-clockwise as seen from the camera (90 is the top edge, 180 the left)"
+            "Direction the key light comes from, in the canvas plane, as the painter measures it: 0 is the "
+            "painting's right edge, 90 its bottom edge, 180 the left, 270 the top"
         ),
-        default=math.radians(135.0), min=-2.0 * math.pi, max=2.0 * math.pi, subtype="ANGLE",
+        default=math.radians(225.0), min=-2.0 * math.pi, max=2.0 * math.pi, subtype="ANGLE",
     )
     light_elevation: FloatProperty(
         name="Elevation",

@@ -88,12 +88,13 @@ def light_direction(azimuth, elevation):
     """Unit vector (x, y, z) from the canvas towards a light.
 
     The canvas lies in the XY plane facing +z, the image's right along +x and
-    its top along +y. ``azimuth`` is measured in the canvas plane from +x
-    (image right) counter-clockwise towards +y (image top), as seen from the
-    camera above; ``elevation`` is the angle above the canvas plane.
+    its top along +y. ``azimuth`` follows the painter's convention: measured
+    in the image from its right edge towards its bottom edge (clockwise as
+    seen from the camera above: 0 right, 90 bottom, 180 left, 270 top);
+    ``elevation`` is the angle above the canvas plane.
     """
     c = math.cos(elevation)
-    return (c * math.cos(azimuth), c * math.sin(azimuth), math.sin(elevation))
+    return (c * math.cos(azimuth), -c * math.sin(azimuth), math.sin(elevation))
 
 
 def wave_scale_for_period(period):
@@ -115,15 +116,6 @@ def sweep_azimuths(count):
     if count < 1:
         raise ValueError("The light sweep needs at least one azimuth, got {}.".format(count))
     return [360.0 * i / count for i in range(count)]
-
-
-def blender_azimuth_deg(painter_deg):
-    """The painter's azimuth (degrees from image +x towards image DOWN) in Blender's convention.
-
-    Blender's (``light_direction``) turns from +x towards image UP, so the angle
-    changes sign: ``(-painter_deg) mod 360``. The mapping is its own inverse.
-    """
-    return (-float(painter_deg)) % 360.0
 
 
 def render_file_name(kind, azimuth_deg):

@@ -28,10 +28,9 @@ Steps, each printed with its time:
 6. ``core.comparison.run_comparison`` writes comparison.json, comparison.md,
    comparison.png, correlation.png and light_sweep.gif into OUTDIR.
 
-Azimuths are the PAINTER's: degrees in the image from +x (right) towards +y
-(DOWN): 0 = light from the right, 90 = from the bottom, 180 = left, 270 =
-top. Blender's lights turn the other way (0 = right, 90 = top); the script
-converts: Blender azimuth = -(painter azimuth) mod 360.
+Azimuths are degrees in the image from +x (right) towards +y (down): 0 =
+light from the right, 90 = from the bottom, 180 = left, 270 = top, the same
+convention as the painter's ``light`` command and the add-on's Lighting panel.
 
 A bad input (no image, an unreadable image, an output folder that cannot be
 written, ``--azimuths 0``, ...) ends with one sentence on stderr and exit
@@ -252,13 +251,12 @@ def stage_scene(package, args, painting_dir, azimuths):
     scene = bpy.context.scene
     for obj in list(scene.objects):  # the start-up file's cube, light and camera
         bpy.data.objects.remove(obj)
-    values = package.addon.values
     settings = scene.paint_relief
     settings.painting_dir = str(painting_dir)
     settings.canvas_width_cm = CANVAS_WIDTH_CM
     settings.thickness_mm = args.thickness_mm
     settings.displacement_method = args.method
-    settings.light_azimuth = math.radians(values.blender_azimuth_deg(azimuths[0]))
+    settings.light_azimuth = math.radians(azimuths[0])
     settings.light_elevation = math.radians(args.elevation)
     settings.light_strength = KEY_BRIGHTNESS
     settings.fill_light = False

@@ -70,7 +70,8 @@ def test_grid_arrays():
 
 def test_light_direction_convention():
     assert values.light_direction(0.0, 0.0) == pytest.approx((1.0, 0.0, 0.0))
-    assert values.light_direction(math.pi / 2, 0.0) == pytest.approx((0.0, 1.0, 0.0), abs=1e-12)
+    # 90 degrees is the image's bottom edge, which lies along -y in Blender.
+    assert values.light_direction(math.pi / 2, 0.0) == pytest.approx((0.0, -1.0, 0.0), abs=1e-12)
     assert values.light_direction(0.3, math.pi / 2) == pytest.approx((0.0, 0.0, 1.0), abs=1e-12)
 
 
@@ -197,7 +198,7 @@ def test_lights_are_updated_not_duplicated(results):
     assert step["first"] == step["second"] and step["first"]["lights"] == 2
     assert step["no_fill"]["lights"] == 1
     az, el = step["azimuth"], step["elevation"]
-    towards = [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)]
+    towards = [math.cos(el) * math.cos(az), -math.cos(el) * math.sin(az), math.sin(el)]
     assert step["key_towards_light"] == pytest.approx(towards, abs=1e-5)
     assert step["world"] == "Paint Relief World"
 
