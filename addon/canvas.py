@@ -183,6 +183,16 @@ def _image_node(nodes, image, label, interpolation, location):
     return node
 
 
+def _math_node(nodes, operation, location, label=""):
+    """A Math node doing ``operation`` at ``location``, with an optional label."""
+    node = nodes.new("ShaderNodeMath")
+    node.operation = operation
+    node.location = location
+    if label:
+        node.label = label
+    return node
+
+
 def _principled_input(node, *names):
     """The first of ``names`` the Principled BSDF has (input names changed in Blender 4.0)."""
     for name in names:
@@ -240,27 +250,16 @@ def build_material(material, images, thickness, connect_displacement):
         node.inputs["Distortion"].default_value = 0.0
         node.location = (-1000, y)
         _link(tree, uv.outputs["Object"], node.inputs["Vector"])
-    weave = nodes.new("ShaderNodeMath")
-    weave.operation = "MULTIPLY"
-    weave.label = "Weave"
-    weave.location = (-750, -650)
+    weave = _math_node(nodes, "MULTIPLY", (-750, -650), "Weave")
     _link(tree, weave_x.outputs["Fac"], weave.inputs[0])
     _link(tree, weave_y.outputs["Fac"], weave.inputs[1])
-    bare = nodes.new("ShaderNodeMath")
-    bare.operation = "SUBTRACT"
-    bare.label = "Bare canvas (1 - opacity)"
-    bare.location = (-750, -450)
+    bare = _math_node(nodes, "SUBTRACT", (-750, -450), "Bare canvas (1 - opacity)")
     bare.inputs[0].default_value = 1.0
     _link(tree, opacity.outputs["Color"], bare.inputs[1])
-    weave_bare = nodes.new("ShaderNodeMath")
-    weave_bare.operation = "MULTIPLY"
-    weave_bare.location = (-550, -550)
+    weave_bare = _math_node(nodes, "MULTIPLY", (-550, -550))
     _link(tree, weave.outputs["Value"], weave_bare.inputs[0])
     _link(tree, bare.outputs["Value"], weave_bare.inputs[1])
-    surface = nodes.new("ShaderNodeMath")
-    surface.operation = "MULTIPLY_ADD"
-    surface.label = "Paint + weave height"
-    surface.location = (-350, -400)
+    surface = _math_node(nodes, "MULTIPLY_ADD", (-350, -400), "Paint + weave height")
     surface.inputs[1].default_value = WEAVE_HEIGHT
     _link(tree, weave_bare.outputs["Value"], surface.inputs[0])
     _link(tree, height.outputs["Color"], surface.inputs[2])

@@ -34,6 +34,14 @@ def _sizes(text: str) -> tuple:
     return sizes
 
 
+def _add_run_options(p: argparse.ArgumentParser) -> None:
+    """Options every painting command shares: seed, pixel limit, quiet."""
+    p.add_argument("--seed", type=int, default=DEFAULTS.seed, metavar="N", help="random seed (default: %(default)s)")
+    p.add_argument("--max-megapixels", type=float, default=DEFAULTS.max_megapixels, metavar="N",
+                   help="refuse inputs larger than this (default: %(default)s)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
+
+
 def _add_analysis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("input", help="photograph to read (PNG, JPEG, TIFF, EXR, ...)")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the outputs (created if missing)")
@@ -45,10 +53,7 @@ def _add_analysis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mask", metavar="PATH", help="grayscale importance mask; white areas get smaller strokes (default: none)")
     p.add_argument("--mask-strength", type=float, default=DEFAULTS.mask_strength, metavar="K",
                    help="k in E' = E (1 + k mask) (default: %(default)s)")
-    p.add_argument("--seed", type=int, default=DEFAULTS.seed, metavar="N", help="random seed (default: %(default)s)")
-    p.add_argument("--max-megapixels", type=float, default=DEFAULTS.max_megapixels, metavar="N",
-                   help="refuse inputs larger than this (default: %(default)s)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
+    _add_run_options(p)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -239,10 +244,7 @@ def _add_experiments_parser(sub) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the tables and sheets")
     p.add_argument("--detail", type=float, default=DEFAULTS.detail, metavar="X",
                    help="detail of the paper's method (default: %(default)s)")
-    p.add_argument("--seed", type=int, default=DEFAULTS.seed, metavar="N", help="random seed (default: %(default)s)")
-    p.add_argument("--max-megapixels", type=float, default=DEFAULTS.max_megapixels, metavar="N",
-                   help="refuse inputs larger than this (default: %(default)s)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
+    _add_run_options(p)
     p.set_defaults(run=run_experiments_command)
 
 

@@ -17,20 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from addon_values import values
 
 REPO = Path(__file__).resolve().parent.parent
 HELPER = REPO / "tests" / "blender" / "addon_checks.py"
-
-
-def _load_values():
-    """addon/values.py loaded on its own (the addon package itself imports bpy)."""
-    spec = importlib.util.spec_from_file_location("paint_relief_values", REPO / "addon" / "values.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-values = _load_values()
 
 
 # --- pure helpers -------------------------------------------------------------

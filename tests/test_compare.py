@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from addon_values import values
 
 from core import io
 from core.colour import linear_to_srgb, luminance, srgb_to_linear
@@ -29,16 +30,6 @@ from core.metrics import pearson
 REPO = Path(__file__).resolve().parent.parent
 CHECKS = REPO / "tests" / "blender" / "compare_checks.py"
 SCRIPT = REPO / "sample_scenes" / "compare.py"
-
-
-def _load_values():
-    spec = importlib.util.spec_from_file_location("paint_relief_values_cmp", REPO / "addon" / "values.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-values = _load_values()
 
 
 # --- pure helpers -------------------------------------------------------------

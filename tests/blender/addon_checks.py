@@ -17,20 +17,12 @@ instead, so the others still run.
 import json
 import os
 import sys
-import traceback
+
+from recorder import RESULTS, check
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MAP_W, MAP_H = 64, 48
-RESULTS = {}
 
-
-def check(function):
-    """Run one check, recording its findings or its traceback."""
-    try:
-        RESULTS[function.__name__] = function()
-    except Exception:
-        RESULTS[function.__name__] = {"exception": traceback.format_exc()}
-    return function
 
 
 def counts(bpy):

@@ -32,10 +32,10 @@ import json
 import math
 import os
 import sys
-import traceback
+
+from recorder import RESULTS, check
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-RESULTS = {}
 
 CALIBRATION_SIZE = (256, 192)
 CALIBRATION_SAMPLES = 64
@@ -47,14 +47,6 @@ RAMP_SAMPLES = 16
 RAMP_ELEVATION = 30.0
 BORDER = 4  # pixels left out at the edges of the ramp
 
-
-def check(function):
-    """Run one check, recording its findings or its traceback."""
-    try:
-        RESULTS[function.__name__] = function()
-    except Exception:
-        RESULTS[function.__name__] = {"exception": traceback.format_exc()}
-    return function
 
 
 def run_op(op, **kwargs):
