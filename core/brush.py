@@ -238,6 +238,22 @@ def resize_map(brush_map: np.ndarray, rows: int, cols: int) -> np.ndarray:
     return np.clip(out, 0.0, 1.0).astype(np.float32)
 
 
+def keep_contact(resized: np.ndarray, brush_map: np.ndarray) -> np.ndarray:
+    """``resized`` scaled so its 90th-percentile bristle contact is the map's, clipped to [0, 1].
+
+    Shrinking a map averages each column's ragged, fading ends into its few
+    remaining rows, so a one-row tip would press less than the brush it
+    comes from; this restores the contact level and keeps the columns'
+    differences (streaks).
+    """
+    source = brush_map[brush_map > 0]
+    target = resized[resized > BRISTLE_THRESHOLD]
+    if source.size == 0 or target.size == 0:
+        return resized
+    scale = float(np.percentile(source, 90)) / max(float(np.percentile(target, 90)), 1e-6)
+    return np.clip(resized * np.float32(max(scale, 1.0)), 0.0, 1.0).astype(np.float32)
+
+
 def _check_tip_args(brush_map: np.ndarray, width, transparency: float) -> int:
     """Validate brush_tip's arguments; return the width as a whole number of pixels >= 1."""
     if brush_map.ndim != 2 or brush_map.size == 0 or not np.all(np.isfinite(brush_map)):
@@ -258,7 +274,8 @@ def brush_tip(brush_map: np.ndarray, width: int, transparency: float) -> BrushTi
     width: stroke width in pixels (rounded to a whole number >= 1); the
     resized map is width px across and ``tip_length`` = max(1,
     round(width * rows / cols)) px along (aspect kept). transparency in
-    (0, 1] multiplies every intensity. Resized pixels > 1e-3 are the
+    (0, 1] multiplies every intensity. A tip much shorter than the map keeps
+    the map's contact (``keep_contact``). Resized pixels > 1e-3 are the
     bristles, offset from the centre of the resized map by their pixel
     centres: across = (j + 0.5) - width / 2, along = length / 2 - (i + 0.5)
     (row 0 is the front). A 1-pixel tip, or one where no pixel survives, is
@@ -269,7 +286,7 @@ def brush_tip(brush_map: np.ndarray, width: int, transparency: float) -> BrushTi
     values = np.asarray(brush_map, dtype=np.float32)
     w = _check_tip_args(values, width, transparency)
     length = tip_length(values.shape, w)
-    resized = resize_map(values, length, w) * np.float32(transparency) if w > 1 else None
+    resized = keep_contact(resize_map(values, length, w), values) * np.float32(transparency) if w > 1 else None
     if resized is None or not np.any(resized > BRISTLE_THRESHOLD):
         contact = float(values[values > 0].mean(dtype=np.float64)) * transparency
         zero = np.zeros(1, np.float32)

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compositing import Footprint, band_opacity
+from .compositing import Footprint
 
 
 @dataclass
@@ -33,13 +33,22 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def apply(self, footprint: Footprint, band_width: float, height_mode: str, build: float) -> None:
-        """Lay one stroke's footprint on the canvas.
+    def apply(self, footprint: Footprint, height_mode: str, build: float) -> None:
+        """Lay one stroke's footprint on the canvas (ALGORITHM §6).
 
-        Colour by Eq. 4 (folded), coverage as the same stroke painted in white,
-        stroke opacity o from an anti-aliased band ``band_width`` px wide, and
-        height H = o h + (1 - o) H ('over') or H = H + o h build ('accumulate');
-        opacity A = o + (1 - o) A.
+        Colour by Eq. 4 (folded); coverage as the same stroke painted in white.
+        The stroke's opacity o = a f, with a = 1 - transmittance its colour
+        alpha and f = min(1, deposit / deposit_90) how fully its paint covers
+        (deposit_90 the stroke's 90th-percentile deposit), so the opacity
+        follows the bristles' real footprint and fades with them at the edges
+        and ends. Height, with h the stroke's height:
+        'over'        H <- H + o h - o f H          (= o h + (1 - o) H where f = 1),
+        'accumulate'  H <- H + o h - o f (1 - b) H  (= o (h + b H) + (1 - o) H where f = 1),
+        b = ``build`` in [0, 1). Where the stroke covers fully this is the
+        paper's weighted sum (or bounded build-up: H tends to h / (1 - b)
+        under repeated strokes); at its feathered edges and ends, where f < 1,
+        the thin paint lies on the old instead of replacing it, so a stroke
+        never digs a groove into the paint beneath. Opacity A = o + (1 - o) A.
         """
         p = footprint.pixels
         if p.size == 0:
@@ -49,11 +58,13 @@ class Canvas:
         colour[p] = (colour[p] * keep[:, None] + footprint.paint).astype(np.float32)
         coverage = self.coverage.reshape(-1)
         coverage[p] = 1.0 - (1.0 - coverage[p]) * keep
-        o = band_opacity(footprint.distance, band_width)
+        deposit = footprint.deposit
+        full = np.float32(np.percentile(deposit, 90))
+        fullness = np.minimum(deposit / full, np.float32(1.0)) if full > 0 else np.zeros_like(deposit)
+        o = ((1.0 - keep) * fullness).astype(np.float32)
+        loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
         height = self.height.reshape(-1)
-        if height_mode == "accumulate":
-            height[p] += o * footprint.height * build
-        else:
-            height[p] = o * footprint.height + (1.0 - o) * height[p]
+        old = height[p]
+        height[p] = np.maximum(old + o * footprint.height - o * fullness * loss * old, 0.0)
         opacity = self.opacity.reshape(-1)
         opacity[p] = o + (1.0 - o) * opacity[p]

@@ -1,4 +1,4 @@
-"""sRGB transfer functions and luminance.
+"""sRGB transfer functions, luminance and CIELAB.
 
 Arrays are float32, any shape; values in [0, 1] for display-referred data,
 unbounded (>= 0) for scene-linear data.
@@ -26,3 +26,16 @@ def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
 def luminance(rgb: np.ndarray) -> np.ndarray:
     """(..., 3) -> (...): Rec.709 weighted sum of the channels (in whatever encoding they are)."""
     return np.asarray(rgb, dtype=np.float32) @ REC709_LUMA
+
+
+D65_WHITE = np.array([0.95047, 1.0, 1.08883])
+SRGB_TO_XYZ = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]])
+
+
+def srgb_to_lab(srgb: np.ndarray) -> np.ndarray:
+    """(..., 3) sRGB [0, 1] -> float64 CIELAB (L* in [0, 100], a*, b*), D65 white."""
+    c = np.clip(np.asarray(srgb, np.float64), 0.0, 1.0)
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    xyz = linear @ SRGB_TO_XYZ.T / D65_WHITE
+    f = np.where(xyz > 216 / 24389, np.cbrt(xyz), (24389 / 27 * xyz + 16) / 116)
+    return np.stack([116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]), 200 * (f[..., 1] - f[..., 2])], -1)

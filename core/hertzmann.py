@@ -53,6 +53,7 @@ from .layout import hertzmann_anchors
 from .params import STYLE_NAMES, Params
 from .progress import CancelFn, ProgressFn, Stage
 from .stroke import Stroke, solid_stroke
+from .stroke_metrics import stroke_shape
 from .version import __version__
 
 REFERENCE_SIDE = 512
@@ -313,6 +314,8 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
         "layout": "hertzmann98",
         "renderer": "lines",
         "radii_px": list(radii),
+        "detail_strokes": 0,
+        "stroke_shape": stroke_shape(strokes),
         "hertzmann_style": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(chosen).items()},
     }
     stage.report(1.0, f"Painted {len(strokes)} strokes")

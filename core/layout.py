@@ -14,26 +14,34 @@ def grid_order(grids: np.ndarray) -> np.ndarray:
 
 
 def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference: np.ndarray,
-                  coverage_threshold: float, difference_threshold: float) -> Optional[Tuple[int, int]]:
+                  coverage_threshold: float, difference_threshold: float,
+                  rng: np.random.Generator) -> Optional[Tuple[int, int]]:
     """The anchor (x, y) of this layer's stroke in ``grid`` (x0, y0, x1, y1), or None.
 
     1. p_min, the least-covered pixel, if its coverage < T_c;
     2. else p_max, the pixel whose canvas colour differs most from the
        reference, if that Euclidean RGB distance > T_d;
-    3. else no stroke. Ties go to the first pixel in raster order.
+    3. else no stroke. Ties (e.g. a whole grid still at coverage 0) are broken
+       by ``rng`` among the tied pixels, so anchors do not line up on grid corners.
     """
     x0, y0, x1, y1 = grid
-    cov = coverage[y0:y1, x0:x1]
-    k = int(np.argmin(cov))
     gw = x1 - x0
-    if cov.flat[k] < coverage_threshold:
-        return x0 + k % gw, y0 + k // gw
+    cov = coverage[y0:y1, x0:x1]
+    low = cov.min()
+    if low < coverage_threshold:
+        return pick_tied(np.flatnonzero(cov == low), x0, y0, gw, rng)
     diff = colour[y0:y1, x0:x1] - reference[y0:y1, x0:x1]
     dist2 = np.einsum("ijk,ijk->ij", diff, diff)
-    k = int(np.argmax(dist2))
-    if dist2.flat[k] > difference_threshold * difference_threshold:
-        return x0 + k % gw, y0 + k // gw
+    high = dist2.max()
+    if high > difference_threshold * difference_threshold:
+        return pick_tied(np.flatnonzero(dist2 == high), x0, y0, gw, rng)
     return None
+
+
+def pick_tied(tied: np.ndarray, x0: int, y0: int, grid_width: int, rng: np.random.Generator) -> Tuple[int, int]:
+    """(x, y) of one of the ``tied`` flat indices of a grid at (x0, y0), ``grid_width`` px wide, drawn by ``rng``."""
+    k = int(tied[0]) if len(tied) == 1 else int(tied[rng.integers(len(tied))])
+    return x0 + k % grid_width, y0 + k // grid_width
 
 
 def hertzmann_anchors(error: np.ndarray, spacing: int, threshold: float) -> np.ndarray:

@@ -16,7 +16,9 @@ from .layout import choose_anchor, grid_order, hertzmann_anchors
 from .metrics import psnr
 from .params import Params
 from .progress import CancelFn, ProgressFn, Stage
-from .stroke import Stroke, paint_stroke
+from .details import detail_anchors, size_map
+from .stroke_metrics import stroke_shape
+from .stroke import ColourSources, Stroke, colour_sources, detail_sources, paint_stroke
 from .version import __version__
 
 
@@ -71,15 +73,24 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     t0 = time.perf_counter()
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
     tips = tip_cache(brush, analysis.sizes, params.transparency)
+    sources = colour_sources(analysis.reference, analysis.sizes, params)
+    layers_stage = stage.sub(0.15, 0.95 if params.detail_pass else 1.0)
     if params.layout == "hertzmann98":
-        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, params, stage.sub(0.15, 1.0))
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage)
     else:
-        strokes, per_layer = paint_layers(canvas, analysis, tips, params, stage.sub(0.15, 1.0))
+        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage)
+    if params.detail_pass:
+        details = paint_details(canvas, image, analysis, tips, sources, params, len(per_layer),
+                                stage.sub(0.95, 1.0))
+        strokes += details
+        per_layer.append(len(details))
     seconds = dict(analysis.seconds)
     seconds["strokes"] = time.perf_counter() - t0
     statistics = {
         "strokes": len(strokes),
         "strokes_per_layer": per_layer,
+        "detail_strokes": per_layer[-1] if params.detail_pass else 0,
+        "stroke_shape": stroke_shape(strokes),
         "grids": int(len(analysis.grids)),
         "psnr_db": round(psnr(canvas.colour, image), 3),
         "seconds": {k: round(v, 4) for k, v in seconds.items()},
@@ -98,7 +109,37 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
                     strokes, analysis, params, statistics)
 
 
-def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, params: Params, stage: Stage) -> tuple:
+def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: dict,
+                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
+    """The detail pass: strokes of the smallest brush on small features the layers missed (``core.details``).
+
+    It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
+    reference: an edge-preserving denoise halves the contrast of features a
+    pixel or two wide, which are exactly the lights, glints and wires this
+    pass is for. Each anchor is checked again just before its stroke, since
+    an earlier detail stroke may already have painted it.
+    """
+    smallest = min(analysis.sizes)
+    anchors = detail_anchors(image, canvas.colour,
+                             size_map(analysis.grids, analysis.grid_sizes, canvas.height.shape),
+                             {s: sources[s].edges for s in analysis.sizes}, smallest, params.difference_threshold)
+    rng = np.random.default_rng([params.seed, layer])
+    exact = detail_sources(image)
+    limit = params.difference_threshold ** 2
+    strokes: List[Stroke] = []
+    for done, (x, y) in enumerate(anchors.tolist()):
+        miss = image[y, x] - canvas.colour[y, x]
+        if float(miss @ miss) > limit:
+            strokes.append(paint_stroke(canvas, exact, analysis.orientation, (x, y), smallest, layer,
+                                        tips[smallest], rng, params))
+        stage.check()
+        if done % 200 == 0:
+            stage.report(done / max(1, len(anchors)), f"Details: {len(strokes)} strokes")
+    return strokes
+
+
+def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
+                 params: Params, stage: Stage) -> tuple:
     """Run every layer over every grid (largest first); returns (strokes, strokes per layer)."""
     rng = np.random.default_rng(params.seed)
     order = grid_order(analysis.grids)
@@ -114,9 +155,9 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, params: Params,
         for grid, size in zip(grids, sizes):
             done += 1
             anchor = choose_anchor(grid, canvas.coverage, canvas.colour, analysis.reference,
-                                   params.coverage_threshold, params.difference_threshold)
+                                   params.coverage_threshold, params.difference_threshold, rng)
             if anchor is not None:
-                strokes.append(paint_stroke(canvas, analysis.reference, analysis.orientation, anchor, size,
+                strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size,
                                             layer, tips[size], rng, params))
                 count += 1
             stage.check()
@@ -127,7 +168,8 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, params: Params,
     return strokes, per_layer
 
 
-def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, params: Params, stage: Stage) -> tuple:
+def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
+                             params: Params, stage: Stage) -> tuple:
     """The Fig. 8b ablation: the paper's strokes on Hertzmann 1998's layered layout.
 
     One layer per standard stroke size (largest first; params.layers is not
@@ -157,8 +199,8 @@ def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, par
         order = rng.permutation(len(anchors))
         for done, i in enumerate(order.tolist()):
             anchor = (int(anchors[i, 0]), int(anchors[i, 1]))
-            strokes.append(paint_stroke(canvas, reference, analysis.orientation, anchor, size, layer, tips[size],
-                                        rng, params))
+            strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size, layer,
+                                        tips[size], rng, params))
             stage.check()
             if time.monotonic() - last_report > 0.1:
                 last_report = time.monotonic()

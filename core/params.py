@@ -20,6 +20,7 @@ METHODS = ("huang11", "hertzmann98")
 STYLE_NAMES = ("impressionist", "expressionist", "colorist_wash", "pointillist")
 LAYOUTS = ("paper", "hertzmann98")
 RENDERERS = ("bristles", "lines")
+PATH_RULES = ("natural", "literal")
 
 
 @dataclass(frozen=True)
@@ -43,11 +44,11 @@ class Params:
     """Standard brush widths in pixels for an image of ``size_reference_megapixels``."""
     size_reference_megapixels: float = 1.0
     """Stroke sizes scale with sqrt(pixels / this)."""
-    detail: float = 0.2
+    detail: float = 0.17
     """0..1: how finely detailed areas are split. T_e = total energy * 10^-(2 + 3 detail).
 
-    The default 0.2 gives about 600-800 grids on any image size and, over four
-    layers, less than half the strokes of Hertzmann 1998 (see the README's table)."""
+    The default 0.17 gives, over four layers and the detail pass, less than half
+    the strokes of Hertzmann 1998 on every bundled sample (bench/strokes.py)."""
     partition_delta: float = 0.01 / 255.0
     """delta of Eq. 2 on the [0, 1] energy scale (the paper's 0.01 on 0-255)."""
     partition_gamma: float = 1.0
@@ -75,8 +76,26 @@ class Params:
     """T_d: Euclidean RGB distance above which a grid gets a stroke at p_max."""
     orientation_threshold: float = math.pi / 6
     """T_o: a path stops where the orientation turns more than this from the anchor's."""
-    max_length: int = 8
-    """Control points of a curved stroke at most."""
+    path_rule: str = "natural"
+    """How paths stop (ALGORITHM §5). 'natural' (the default, the settled reading): the edge test on the
+    brush-scale reference from the first step, the colour and orientation tests only at control points
+    and only once the stroke has ``min_length`` control points. 'literal' (the paper read literally, for
+    ablation): the colour and orientation tests at every curve sample from the anchor, no minimum, no edge test."""
+    min_length: int = 5
+    """Control points (anchor included) a 'natural' stroke has before the colour and orientation tests
+    may end it; only an edge or the canvas border ends it sooner."""
+    max_length: int = 16
+    """Control points of a curved stroke at most, anchor included (one brush radius apart: 16 = 7.5 widths)."""
+    edge_threshold: float = 0.12
+    """T_e of the edge test: Euclidean RGB distance, on the brush-scale reference, from the anchor colour."""
+    edge_smoothing: float = 0.25
+    """Sigma, as a fraction of the brush width, of the reference the edge and colour tests read."""
+    anchor_smoothing: float = 0.1
+    """Sigma, as a fraction of the brush width, of the reference the anchor colour of Eq. 5 is read from."""
+    bristle_smoothing: float = 0.1
+    """Sigma, as a fraction of the brush width, of the reference the bristles sample."""
+    bristle_deviation: float = 0.15
+    """Largest Euclidean RGB distance alpha |C_bristle - C_anchor| a bristle's own colour may add (Eq. 5)."""
     brush: str = "flat"
     """A shipped brush name (flat, round, filbert) or a path to a grayscale PNG."""
     transparency: float = 0.9
@@ -84,13 +103,23 @@ class Params:
     bristle_alpha: float = 0.7
     """alpha of Eq. 5: weight of each bristle's own sampled colour."""
     perturbation: float = 0.03
-    """Amplitude of the per-stroke random colour perturbation."""
-    opacity_width: float = 0.9
-    """Width of the stroke opacity band as a fraction of the brush width."""
+    """Amplitude of the per-stroke random lightness change of Eq. 5 (R, G and B scaled alike by
+    1 + 2 U(-a, a): about +-a at mid-gray, the hue kept)."""
+    hue_perturbation: float = 0.0
+    """Amplitude of an extra per-channel random offset (hue jitter); at most a quarter of ``perturbation``."""
+    taper: float = 0.5
+    """Length, in brush widths, over which the contact falls off at each end of a stroke (the brush lifting)."""
+    ridge_height: float = 0.25
+    """Extra height at the sides of a stroke's height profile, as a fraction of its centre (paint pushed aside)."""
+    lift_buildup: float = 0.15
+    """Extra height gathered just before a stroke's lift-off end, as a fraction of its body."""
+    detail_pass: bool = True
+    """After the layers, dot small features the layers missed (lights, stars, glints, thin wires) with the
+    smallest brush (ALGORITHM §5, detail pass)."""
     height_mode: str = "over"
-    """'over' (the paper's weighted sum) or 'accumulate' (paint piles up)."""
+    """'over' (the paper's weighted sum) or 'accumulate' (new paint on part of the old, bounded)."""
     height_build: float = 0.5
-    """Per-stroke build factor in accumulate mode."""
+    """beta of 'accumulate': H <- o (h + beta H) + (1 - o) H, so H stays below h / (1 - beta); in [0, 1)."""
     canvas_colour: Tuple[float, float, float] = CANVAS_COLOUR
     """sRGB colour of the bare canvas."""
 
@@ -144,13 +173,22 @@ class Params:
         need(0.0 <= self.coverage_threshold <= 1.0, "The coverage threshold must be between 0 and 1.")
         need(self.difference_threshold >= 0, "The difference threshold must not be negative.")
         need(0 < self.orientation_threshold <= math.pi, "The orientation threshold must be in (0, pi].")
+        need(self.path_rule in PATH_RULES, f"Unknown path rule {self.path_rule!r}; choose natural or literal.")
         need(isinstance(self.max_length, int) and self.max_length >= 0, "The maximum stroke length must be a whole number >= 0.")
+        need(isinstance(self.min_length, int) and 0 <= self.min_length,
+             "The minimum stroke length must be a whole number >= 0.")
+        need(self.edge_threshold > 0, "The edge threshold must be positive.")
+        need(self.edge_smoothing >= 0 and self.anchor_smoothing >= 0 and self.bristle_smoothing >= 0, "Colour smoothing must not be negative.")
+        need(self.bristle_deviation >= 0, "The bristle deviation limit must not be negative.")
+        need(0 <= self.hue_perturbation <= self.perturbation / 4 + 1e-12,
+             "The hue perturbation must be between 0 and a quarter of the lightness perturbation.")
+        need(self.taper >= 0, "The taper length must not be negative.")
+        need(self.ridge_height >= 0 and self.lift_buildup >= 0, "Ridge and build-up heights must not be negative.")
         need(0.0 < self.transparency <= 1.0, f"The transparency factor must be in (0, 1], got {self.transparency}.")
         need(0.0 <= self.bristle_alpha <= 1.0, f"Alpha must be between 0 and 1, got {self.bristle_alpha}.")
         need(self.perturbation >= 0, "The colour perturbation must not be negative.")
-        need(0.0 < self.opacity_width <= 2.0, "The opacity width must be in (0, 2].")
         need(self.height_mode in ("over", "accumulate"), f"Height mode must be 'over' or 'accumulate', got {self.height_mode!r}.")
-        need(self.height_build > 0, "The height build factor must be positive.")
+        need(0 <= self.height_build < 1, f"The height build factor must be in [0, 1), got {self.height_build}.")
         need(len(self.canvas_colour) == 3 and all(0 <= c <= 1 for c in self.canvas_colour),
              "The canvas colour must be three values between 0 and 1.")
         need(self.method in METHODS, f"Unknown method {self.method!r}; choose huang11 or hertzmann98.")

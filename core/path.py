@@ -18,15 +18,25 @@ def axial_difference(a: np.ndarray, b: float) -> np.ndarray:
     return np.minimum(d, math.pi - d)
 
 
-def trace_control_points(anchor: tuple, orientation: np.ndarray, step: float, max_points: int) -> tuple:
+MAX_TURN_PER_STEP = math.radians(20.0)
+
+
+def trace_control_points(anchor: tuple, orientation: np.ndarray, step: float, forward: int, backward: int,
+                         max_turn: float = MAX_TURN_PER_STEP, margin: float = 0.0) -> tuple:
     """Control points from ``anchor`` following the orientation field both ways.
 
     anchor: (x, y) integer pixel. orientation: (H, W) axial angles. step:
-    distance between control points in px (about the brush radius).
-    max_points: control points besides the anchor at most, split between the
-    forward (first half, rounded up) and backward directions; each side stops
-    where it would leave the canvas. At every point the field's axial
-    direction is turned to agree with the previous step (Hertzmann 1998).
+    distance between control points in px (the brush radius). forward,
+    backward: control points besides the anchor at most on each side; each
+    side stops where it would go more than ``margin`` px past the canvas's
+    border (a painter's stroke runs off the edge; the field is read at the
+    nearest pixel on the canvas). At every point the field's
+    axial direction is turned to agree with the previous step, so the path
+    turns as little as it can (Hertzmann 1998), and each step turns at most
+    ``max_turn`` radians from the one before: the path's radius of curvature
+    stays above step / max_turn (about three brush radii at 20 degrees), so
+    the inner side of a turning brush never folds back over itself and piles
+    paint up.
 
     Returns (points (K, 2) float64 ordered backward end -> forward end,
     index of the anchor in them).
@@ -34,26 +44,30 @@ def trace_control_points(anchor: tuple, orientation: np.ndarray, step: float, ma
     h, w = orientation.shape
     x0, y0 = float(anchor[0]), float(anchor[1])
     theta0 = float(orientation[int(y0), int(x0)])
-    forward_count = (max_points + 1) // 2
     sides = []
-    for sign, count in ((1.0, forward_count), (-1.0, max_points - forward_count)):
+    for sign, count in ((1.0, forward), (-1.0, backward)):
         dx, dy = sign * math.cos(theta0), sign * math.sin(theta0)
         x, y = x0, y0
         side = []
         for _ in range(count):
-            theta = float(orientation[int(round(y)), int(round(x))])
+            theta = float(orientation[min(max(int(round(y)), 0), h - 1), min(max(int(round(x)), 0), w - 1)])
             cx, cy = math.cos(theta), math.sin(theta)
             if cx * dx + cy * dy < 0.0:
                 cx, cy = -cx, -cy
+            turn = math.atan2(dx * cy - dy * cx, dx * cx + dy * cy)
+            if abs(turn) > max_turn:
+                limited = math.copysign(max_turn, turn)
+                cx = dx * math.cos(limited) - dy * math.sin(limited)
+                cy = dx * math.sin(limited) + dy * math.cos(limited)
             nx, ny = x + step * cx, y + step * cy
-            if not (0.0 <= nx <= w - 1 and 0.0 <= ny <= h - 1):
+            if not (-margin <= nx <= w - 1 + margin and -margin <= ny <= h - 1 + margin):
                 break
             x, y, dx, dy = nx, ny, cx, cy
             side.append((x, y))
         sides.append(side)
-    forward, backward = sides
-    points = backward[::-1] + [(x0, y0)] + forward
-    return np.array(points, dtype=np.float64), len(backward)
+    forward_points, backward_points = sides
+    points = backward_points[::-1] + [(x0, y0)] + forward_points
+    return np.array(points, dtype=np.float64), len(backward_points)
 
 
 _BASIS_CACHE: dict = {}
@@ -121,3 +135,26 @@ def clip_path(samples: np.ndarray, anchor_index: int, keep: np.ndarray) -> tuple
     backward = first_failure(keep[:anchor_index][::-1])
     start, stop = anchor_index - backward, anchor_index + 1 + forward
     return samples[start:stop], anchor_index - start
+
+
+def resample_by_length(points: np.ndarray, spacing: float = 1.0) -> tuple:
+    """Points every ``spacing`` px of arc length along the polyline through (N, 2) ``points``.
+
+    Returns (samples (M, 2) float64 starting at points[0], arc length of each
+    (M,) float64 px); the last sample is the polyline's end when the length is
+    not a whole multiple of ``spacing``. A single point (or a polyline of
+    zero length) gives itself.
+    """
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    if len(pts) < 2:
+        return pts.copy(), np.zeros(len(pts))
+    seg = np.hypot(*np.diff(pts, axis=0).T)
+    arc = np.concatenate(([0.0], np.cumsum(seg)))
+    total = float(arc[-1])
+    if total <= 0.0:
+        return pts[:1].copy(), np.zeros(1)
+    at = np.arange(0.0, total, spacing)
+    if total - at[-1] > 1e-6:
+        at = np.append(at, total)
+    out = np.stack([np.interp(at, arc, pts[:, 0]), np.interp(at, arc, pts[:, 1])], axis=1)
+    return out, at

@@ -1,8 +1,9 @@
-"""One paint stroke: bristle colours (Eq. 5), its path, and laying it on the canvas (Eq. 4)."""
+"""One paint stroke: bristle colours (Eq. 5), its path, and laying it on the canvas (Eq. 4, §6)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Dict, Iterable
 
 import numpy as np
 
@@ -10,16 +11,26 @@ from .brush import BrushTip
 from .canvas import Canvas
 from .compositing import stamp_stride, stroke_footprint
 from .params import Params
-from .path import axial_difference, catmull_rom, clip_path, tangent_angles, trace_control_points
+from .path import resample_by_length, tangent_angles
+from .planning import plan_path
+from .smoothing import SmoothedImage, smooth
+
+# A stroke covers as a brush at least this many rows long would: a short tip (small brushes have one or
+# two rows) is counted as passing that many times, so small strokes are as opaque as large ones.
+MIN_ROWS = 4.0
+
+# Contact left at the very tip of a stroke's ends (the brush lifting off), as a fraction of full contact.
+LIFT_FLOOR = 0.3
 
 
 @dataclass
 class Stroke:
     """A painted stroke as recorded in ``strokes.json``.
 
-    layer: 0-based layer. anchor: (x, y) pixel. size: brush width (px).
-    path: (K, 2) float32 (x, y) points of the kept path: its ends and the
-    control points between them. colour: sRGB anchor colour (3,).
+    layer: 0-based layer (the detail pass is the layer after the last).
+    anchor: (x, y) pixel. size: brush width (px). path: (K, 2) float32 (x, y)
+    points of the kept path: its ends and the control points between them.
+    colour: sRGB anchor colour (3,).
     """
 
     layer: int
@@ -34,78 +45,163 @@ class Stroke:
                 "path": np.round(self.path, 2).tolist(), "colour": np.round(self.colour, 4).tolist()}
 
 
-def nearest_pixels(shape: tuple, x: np.ndarray, y: np.ndarray) -> tuple:
-    """(rows, columns) int arrays of the pixels nearest float positions x, y, clamped to an (H, W) canvas."""
-    h, w = shape[:2]
-    ix = np.minimum(np.maximum(np.floor(x + 0.5), 0), w - 1).astype(np.intp)
-    iy = np.minimum(np.maximum(np.floor(y + 0.5), 0), h - 1).astype(np.intp)
-    return iy, ix
+@dataclass(frozen=True)
+class ColourSources:
+    """Where the strokes of one brush width take their colours (ALGORITHM §5).
+
+    reference: float32 (H, W, 3) sRGB [0, 1], the bilateral reference.
+    edges: the reference smoothed at the brush's scale (the path's edge and colour tests).
+    anchor: the reference smoothed for the anchor colour of Eq. 5.
+    bristles: the reference lightly smoothed (each bristle's own colour).
+    deviation: how far a bristle's own colour may stray from the anchor colour
+    (Euclidean RGB), or None for ``Params.bristle_deviation``.
+    """
+
+    reference: np.ndarray
+    edges: SmoothedImage
+    anchor: SmoothedImage
+    bristles: SmoothedImage
+    deviation: float = None
 
 
-def bristle_colours(reference: np.ndarray, anchor: tuple, angle: float, tip: BrushTip, alpha: float,
-                    perturbation: np.ndarray) -> np.ndarray:
-    """Eq. 5: (B, 3) sRGB colour of every bristle of ``tip``.
+def colour_sources(reference: np.ndarray, sizes: Iterable[int], params: Params) -> Dict[int, ColourSources]:
+    """{width: ColourSources} for each brush width (px): sigmas edge_smoothing, anchor_smoothing and
+    bristle_smoothing x width (equal sigmas share one smoothed image)."""
+    levels: Dict[float, SmoothedImage] = {}
+
+    def level(sigma: float) -> SmoothedImage:
+        if sigma not in levels:
+            levels[sigma] = smooth(reference, sigma)
+        return levels[sigma]
+
+    return {int(s): ColourSources(reference, level(params.edge_smoothing * s), level(params.anchor_smoothing * s),
+                                  level(params.bristle_smoothing * s)) for s in sizes}
+
+
+def detail_sources(reference: np.ndarray) -> ColourSources:
+    """ColourSources of the detail pass: the reference itself, one colour per stroke, so a dotted
+    highlight keeps its full colour."""
+    exact = smooth(reference, 0.0)
+    return ColourSources(reference, exact, exact, exact, deviation=0.0)
+
+
+def colour_jitter(rng: np.random.Generator, lightness: float, hue: float) -> tuple:
+    """One stroke's random colour change of Eq. 5: (gain (), offset (3,)), both float32.
+
+    gain = 1 + 2 U(-lightness, lightness) scales R, G and B alike, which
+    changes lightness (by about the amplitude at mid-gray) and keeps the
+    ratios of the channels, so the hue stays; when ``hue`` > 0, offset adds
+    U(-hue, hue) to each channel (hue jitter), else it is 0.
+    """
+    gain = np.float32(1.0 + 2.0 * rng.uniform(-lightness, lightness))
+    offset = rng.uniform(-hue, hue, 3).astype(np.float32) if hue > 0 else np.zeros(3, np.float32)
+    return gain, offset
+
+
+def bristle_colours(sources: ColourSources, anchor: tuple, angle: float, tip: BrushTip, alpha: float,
+                    deviation: float, jitter: tuple = (1.0, 0.0)) -> tuple:
+    """Eq. 5: ((B, 3) sRGB colour of every bristle of ``tip``, (3,) anchor colour).
 
     The brush is centred on ``anchor`` (x, y) and turned to ``angle`` (its
-    along axis); each bristle samples the reference under it:
-    C = alpha C_bristle + (1 - alpha) C_anchor + perturbation, clipped to [0, 1].
+    along axis). C_anchor is ``sources.anchor`` at the anchor; each bristle
+    samples ``sources.bristles`` under it (bilinear) and
+    C = gain (C_anchor + d) + offset, with d = alpha (C_bristle - C_anchor)
+    shortened to at most ``deviation`` (Euclidean RGB) and (gain, offset) the
+    stroke's ``jitter`` (``colour_jitter``), clipped to [0, 1]. So an anchor on
+    a star or a glint neither tints the stroke nor drags it along as a scratch.
     """
     c, s = np.cos(angle), np.sin(angle)
     x = anchor[0] + tip.along * c - tip.across * s
     y = anchor[1] + tip.along * s + tip.across * c
-    under = reference[nearest_pixels(reference.shape, x, y)]
-    at_anchor = reference[anchor[1], anchor[0]]
-    mixed = alpha * under + ((1.0 - alpha) * at_anchor + perturbation)
-    return np.minimum(np.maximum(mixed, 0.0), 1.0).astype(np.float32)
+    at_anchor = sources.anchor.at(float(anchor[0]), float(anchor[1]))
+    d = np.float32(alpha) * (sources.bristles.sample(x, y) - at_anchor)
+    norm = np.sqrt(np.sum(d * d, axis=1, keepdims=True))
+    d *= np.minimum(np.float32(1.0), np.float32(deviation) / np.maximum(norm, np.float32(1e-12)))
+    gain, offset = jitter
+    mixed = np.float32(gain) * (at_anchor + d) + offset
+    return np.clip(mixed, 0.0, 1.0).astype(np.float32), at_anchor
 
 
-def keep_mask(samples: np.ndarray, reference: np.ndarray, canvas_colour: np.ndarray, orientation: np.ndarray,
-              brush_colour: np.ndarray, anchor_angle: float, max_turn: float) -> np.ndarray:
-    """(N,) bool: where a path may go on (ALGORITHM §5 stopping rules).
+def _smoothstep(t: np.ndarray) -> np.ndarray:
+    """0 below 0, 1 above 1, 3t^2 - 2t^3 between."""
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
 
-    A sample fails where (a) the canvas already matches the reference better
-    than the brush colour would, |ref - canvas| < |ref - brush|, or (b) the
-    orientation field turns more than ``max_turn`` from the anchor's angle.
+
+def end_profile(arc: np.ndarray, width: float, taper: float, buildup: float) -> tuple:
+    """Per-stamp (contact, relief) (each (S,) float32) of a stroke whose stamps sit at arc lengths ``arc`` (px).
+
+    The brush lifts off over the last taper x width px (at most half the
+    stroke) and touches down over the first half of that (at most a quarter
+    of the stroke): the contact falls from 1 to LIFT_FLOOR at the very ends.
+    Paint gathers where the brush starts to lift: relief 1 + buildup at one
+    taper length before the end, fading to 1 within half a taper length.
     """
-    at = nearest_pixels(reference.shape, samples[:, 0], samples[:, 1])
-    ref = reference[at]
-    can = canvas_colour[at]
-    theta = orientation[at]
-    closer = np.sum((ref - can) ** 2, axis=1) < np.sum((ref - brush_colour) ** 2, axis=1)
-    turned = axial_difference(theta, anchor_angle) > max_turn
-    return ~(closer | turned)
+    arc = np.asarray(arc, np.float64)
+    total = float(arc[-1]) if len(arc) else 0.0
+    lift = min(taper * width, 0.5 * total)
+    touch = min(0.5 * taper * width, 0.25 * total)
+    contact = np.ones(len(arc))
+    relief = np.ones(len(arc))
+    if lift > 0:
+        to_end = total - arc
+        contact *= LIFT_FLOOR + (1.0 - LIFT_FLOOR) * _smoothstep(to_end / lift)
+        relief += buildup * np.exp(-((to_end / lift - 1.0) / 0.5) ** 2)
+    if touch > 0:
+        contact *= LIFT_FLOOR + (1.0 - LIFT_FLOOR) * _smoothstep(arc / touch)
+    return contact.astype(np.float32), relief.astype(np.float32)
 
 
-def paint_stroke(canvas: Canvas, reference: np.ndarray, orientation: np.ndarray, anchor: tuple, size: int,
+def ridge_profile(across: np.ndarray, radius: float, ridge: float) -> np.ndarray:
+    """(B,) float32 height factor of bristles at ``across`` px from the centre line of a brush ``radius`` px:
+    1 in the middle, rising to 1 + ridge at the sides (paint pushed aside by the brush)."""
+    t = np.abs(np.asarray(across, np.float64)) / max(radius, 1e-6)
+    return (1.0 + ridge * _smoothstep((t - 0.45) / 0.4)).astype(np.float32)
+
+
+def stamp_schedule(count: int, stride: int) -> tuple:
+    """Which of ``count`` samples (one px apart) get a stamp, and how many samples each stands for.
+
+    Every ``stride``-th sample from the first, and the last; returns (indices
+    (S,) int, repeat (S,) float32): ``stride`` for each stamp but the last,
+    which stands for the samples since the one before (1 for a one-sample path).
+    """
+    stamps = np.unique(np.append(np.arange(0, count, stride), count - 1))
+    repeat = np.full(len(stamps), float(stride), np.float32)
+    if len(stamps) > 1:
+        repeat[-1] = float(stamps[-1] - stamps[-2])
+    else:
+        repeat[-1] = 1.0
+    return stamps, repeat
+
+
+def paint_stroke(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchor: tuple, size: int,
                  layer: int, tip: BrushTip, rng: np.random.Generator, params: Params) -> Stroke:
     """Plan one stroke from ``anchor`` (x, y) with a brush ``size`` px wide, lay it on ``canvas``, return it.
 
     With params.renderer == 'lines' the stroke is a solid line instead (``paint_line_stroke``).
     """
     if params.renderer == "lines":
-        return paint_line_stroke(canvas, reference, orientation, anchor, size, layer, params)
+        return paint_line_stroke(canvas, sources, orientation, anchor, size, layer, params)
     angle = float(orientation[anchor[1], anchor[0]])
-    perturbation = rng.uniform(-params.perturbation, params.perturbation, 3).astype(np.float32)
-    colours = bristle_colours(reference, anchor, angle, tip, params.bristle_alpha, perturbation)
+    jitter = colour_jitter(rng, params.perturbation, params.hue_perturbation)
+    deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
+    colours, anchor_colour = bristle_colours(sources, anchor, angle, tip, params.bristle_alpha, deviation, jitter)
     brush_colour = (tip.intensity @ colours) / tip.intensity.sum()
-
-    control, anchor_index = trace_control_points(anchor, orientation, max(1.0, 0.5 * size), params.max_length)
-    samples, control_index = catmull_rom(control)
-    keep = keep_mask(samples, reference, canvas.colour, orientation, brush_colour, angle,
-                     params.orientation_threshold)
-    start_index = control_index[anchor_index]
-    kept, kept_anchor = clip_path(samples, start_index, keep)
-    angles = tangent_angles(kept, angle)
-    stride = stamp_stride(tip.length)
-    stamps = np.unique(np.append(np.arange(0, len(kept), stride), len(kept) - 1))
-    footprint = stroke_footprint(kept[stamps], angles[stamps], tip.along, tip.across, tip.intensity, colours,
-                                 canvas.height.shape, repeat=stride)
-    canvas.apply(footprint, params.opacity_width * size, params.height_mode, params.height_build)
-
-    first = start_index - kept_anchor
-    inner = control_index[(control_index > first) & (control_index < first + len(kept) - 1)] - first
-    path = kept[np.unique(np.concatenate(([0], inner, [len(kept) - 1])))].astype(np.float32)
-    return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), path, reference[anchor[1], anchor[0]].copy())
+    plan = plan_path(anchor, size, orientation, canvas.colour, brush_colour, sources.reference, sources.edges,
+                     params)
+    samples, arc = resample_by_length(plan.samples, 1.0)
+    angles = tangent_angles(samples, angle)
+    rows = max(1.0, tip.length)
+    passes = max(1.0, MIN_ROWS / rows)
+    stamps, repeat = stamp_schedule(len(samples), stamp_stride(tip.length))
+    contact, relief = end_profile(arc[stamps], size, params.taper, params.lift_buildup)
+    footprint = stroke_footprint(samples[stamps], angles[stamps], tip.along, tip.across, tip.intensity, colours,
+                                 canvas.height.shape, repeat=repeat * passes, contact=contact, stamp_relief=relief,
+                                 bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height),
+                                 rows=rows * passes)
+    canvas.apply(footprint, params.height_mode, params.height_build)
+    return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), plan.polyline(), anchor_colour)
 
 
 # ---------------------------------------------------------------------------
@@ -186,8 +282,8 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
     polyline (a 1 px ramp centred on the edge). With a = alpha o:
     colour C = a C_stroke + (1 - a) C; coverage 1 - (1 - cov)(1 - a);
     stroke height h = alpha sqrt(1 - (d / radius)^2) (a rounded profile across
-    the stroke); height H = o h + (1 - o) H ('over') or H + o h build
-    ('accumulate'), as core/canvas.py; opacity A = a + (1 - a) A (a stroke of
+    the stroke); height H + o h - o f k H with f = o and k = 1 ('over') or
+    1 - build ('accumulate'), as core/canvas.py; opacity A = a + (1 - a) A (a stroke of
     opacity alpha lets the canvas show through). When ``orientation`` (H, W)
     is given, pixels with a >= 0.5 take the direction (mod pi) of their
     nearest segment.
@@ -212,10 +308,8 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
     if alpha != 1.0:
         profile *= np.float32(alpha)
     hgt = canvas.height[rows, cols]
-    if height_mode == "accumulate":
-        hgt += o * profile * np.float32(build)
-    else:
-        hgt += o * (profile - hgt)
+    loss = np.float32(1.0 - build if height_mode == "accumulate" else 1.0)
+    hgt += o * profile - o * o * loss * hgt
     op = canvas.opacity[rows, cols]
     op += a * (1.0 - op)
     if orientation is not None:
@@ -227,28 +321,19 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
             orientation[rows, cols][top] = angles[segment[top]]
 
 
-def paint_line_stroke(canvas: Canvas, reference: np.ndarray, orientation: np.ndarray, anchor: tuple, size: int,
+def paint_line_stroke(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchor: tuple, size: int,
                       layer: int, params: Params) -> Stroke:
     """The Fig. 8c ablation: the paper's path, painted as one solid anti-aliased line of the anchor colour.
 
-    The path is planned exactly as for the bristle brush (control points,
-    Catmull-Rom curve, stopping rules) with the anchor colour as the brush
-    colour; the kept curve, thinned to a point every max(1, size / 4) samples
-    (about a quarter of the width apart) plus its end, is drawn by
-    ``solid_stroke`` with radius size / 2 and opacity 1.
+    The path is planned exactly as for the bristle brush (``plan_path``) with
+    the anchor colour as the brush colour; the kept curve, thinned to a point
+    every max(1, size / 4) samples (about a quarter of the width apart) plus
+    its end, is drawn by ``solid_stroke`` with radius size / 2 and opacity 1.
     """
-    angle = float(orientation[anchor[1], anchor[0]])
-    colour = reference[anchor[1], anchor[0]].astype(np.float32)
-    control, anchor_index = trace_control_points(anchor, orientation, max(1.0, 0.5 * size), params.max_length)
-    samples, control_index = catmull_rom(control)
-    keep = keep_mask(samples, reference, canvas.colour, orientation, colour, angle, params.orientation_threshold)
-    start_index = control_index[anchor_index]
-    kept, kept_anchor = clip_path(samples, start_index, keep)
+    colour = sources.anchor.at(float(anchor[0]), float(anchor[1]))
+    plan = plan_path(anchor, size, orientation, canvas.colour, colour, sources.reference, sources.edges, params)
+    kept = plan.samples
     every = max(1, int(size) // 4)
     line = kept[np.unique(np.append(np.arange(0, len(kept), every), len(kept) - 1))]
     solid_stroke(canvas, line, 0.5 * size, colour, 1.0, params.height_mode, params.height_build)
-
-    first = start_index - kept_anchor
-    inner = control_index[(control_index > first) & (control_index < first + len(kept) - 1)] - first
-    path = kept[np.unique(np.concatenate(([0], inner, [len(kept) - 1])))].astype(np.float32)
-    return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), path, colour.copy())
+    return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), plan.polyline(), colour.copy())

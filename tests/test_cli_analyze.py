@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 
 import numpy as np
+
+from core.params import Params
 import OpenImageIO as oiio
 import pytest
 
@@ -40,7 +42,7 @@ def test_analyze_writes_every_output(photo, tmp_path, capsys):
     importance, channels, attributes = io.read_exr(out / "importance.exr")
     assert importance.shape == (60, 90, 1) and channels == ["Y"]
     assert 0.0 <= importance.min() and importance.max() <= 1.0
-    assert json.loads(attributes["paint_relief:params"])["detail"] == 0.2
+    assert json.loads(attributes["paint_relief:params"])["detail"] == Params().detail
     assert "Analysis done" in capsys.readouterr().err
 
 

@@ -48,7 +48,8 @@ def test_maps_agree_with_the_painting(painted):
     height, channels, _ = io.read_exr(painted / "height.exr")
     opacity, _, _ = io.read_exr(painted / "opacity.exr")
     assert channels == ["Y"] and height.shape == (48, 64, 1)
-    assert height.min() >= 0.0 and height.max() <= 1.0 and height.max() > 0.1
+    # 1 = one full bristle's contact; ridges and the build-up at a stroke's lift-off reach a little above
+    assert height.min() >= 0.0 and height.max() <= 1.6 and height.max() > 0.1
     assert opacity.min() >= 0.0 and opacity.max() <= 1.0
     assert attributes["paint_relief:seed"] == 3
     assert attributes["paint_relief:height_mode"] == "over"
@@ -59,7 +60,10 @@ def test_report_and_strokes(painted):
     report = json.loads((painted / "report.json").read_text())
     assert REPORT_KEYS <= set(report)
     assert report["width"] == 64 and report["height"] == 48 and report["seed"] == 3
-    assert report["strokes"] == sum(report["strokes_per_layer"]) and len(report["strokes_per_layer"]) == 4
+    assert report["strokes"] == sum(report["strokes_per_layer"]) and len(report["strokes_per_layer"]) == 4 + 1
+    assert report["strokes_per_layer"][-1] == report["detail_strokes"]
+    assert set(report["stroke_shape"]) == {"median_length_to_width", "median_length_to_width_first_layer",
+                                           "dab_share", "dab_area_share"}
     strokes = json.loads((painted / "strokes.json").read_text())["strokes"]
     assert len(strokes) == report["strokes"]
     first = strokes[0]

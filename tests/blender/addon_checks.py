@@ -186,6 +186,8 @@ def main(work, render):
                 "links": links, "images": images, "vertices": len(obj.data.vertices),
                 "z_range": [float(z.min()), float(z.max())],
                 "height_range": [float(height.min()), float(height.max())],
+                "z_percentiles": [float(v) for v in np.percentile(z, [1, 99])],
+                "height_percentiles": [float(v) for v in np.percentile(height, [1, 99])],
                 "displacement_inputs": {"midlevel": displacement.inputs["Midlevel"].default_value,
                                         "scale": displacement.inputs["Scale"].default_value},
                 "bump_distance": bump.inputs["Distance"].default_value,

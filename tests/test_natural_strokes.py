@@ -1,0 +1,242 @@
+"""Natural paint strokes (ALGORITHM §3, §5, §6): long strokes, clean colour, sub-pixel bristles, highlights
+dotted last, a crack-free relief with ridges and bounded build-up."""
+
+from __future__ import annotations
+
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+from core.brush import brush_tip, load_brush
+from core.canvas import Canvas
+from core.compositing import stroke_footprint
+from core.io import read_image
+from core.painting import paint
+from core.params import Params
+from core.stroke import bristle_colours, colour_jitter, colour_sources, paint_stroke
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def flat():
+    return load_brush("flat")
+
+
+def one_stroke(reference, anchor, size, brush_map, params=None, orientation=None, canvas=None):
+    params = params or Params()
+    h, w = reference.shape[:2]
+    orientation = np.zeros((h, w), np.float32) if orientation is None else orientation
+    canvas = canvas or Canvas.blank((h, w), params.canvas_colour)
+    tip = brush_tip(brush_map, size, params.transparency)
+    sources = colour_sources(reference, [size], params)[size]
+    stroke = paint_stroke(canvas, sources, orientation, anchor, size, 0, tip, np.random.default_rng(0), params)
+    return canvas, stroke
+
+
+def path_length(path: np.ndarray) -> float:
+    return float(np.sum(np.hypot(*np.diff(path.astype(np.float64), axis=0).T))) if len(path) > 1 else 0.0
+
+
+def lab(rgb: np.ndarray) -> np.ndarray:
+    """CIELAB of sRGB [0, 1] colours (..., 3), D65, written out here independently of the painter."""
+    c = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    m = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]])
+    xyz = c @ m.T / np.array([0.95047, 1.0, 1.08883])
+    f = np.where(xyz > 216 / 24389, np.cbrt(xyz), (24389 / 27 * xyz + 16) / 116)
+    return np.stack([116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]), 200 * (f[..., 1] - f[..., 2])], -1)
+
+
+# ---------------------------------------------------------------------------
+# strokes that run
+
+
+@pytest.mark.parametrize("size", [8, 16])
+def test_a_stroke_on_a_flat_image_runs_its_maximum_length(flat, size):
+    ref = np.full((120, 320, 3), (0.3, 0.5, 0.7), np.float32)
+    params = Params()
+    _, stroke = one_stroke(ref, (160, 60), size, flat, params)
+    assert len(stroke.path) == params.max_length
+    assert path_length(stroke.path) == pytest.approx((params.max_length - 1) * size / 2, rel=0.01)
+
+
+def test_a_stroke_stops_at_an_edge_on_either_side_but_runs_over_a_small_dot(flat):
+    size = 16
+    ref = np.full((100, 320, 3), (0.8, 0.3, 0.2), np.float32)
+    ref[:, :110] = (0.1, 0.2, 0.7)                # edges 50 px left and right of the anchor
+    ref[:, 210:] = (0.1, 0.6, 0.2)
+    _, stroke = one_stroke(ref, (160, 50), size, flat)
+    xs = stroke.path[:, 0]
+    assert 110 - 2 <= xs.min() < 110 + size and 210 - size < xs.max() <= 210 + 2
+
+    dotted = np.full((100, 320, 3), (0.8, 0.3, 0.2), np.float32)
+    dotted[49:52, 189:192] = (0.1, 0.2, 0.7)      # a 3 px dot on the path, smaller than the brush
+    _, stroke = one_stroke(dotted, (160, 50), size, flat)
+    assert stroke.path[:, 0].max() > 200
+
+
+def test_no_stroke_is_shorter_than_the_minimum_unless_the_border_ends_it():
+    # a smooth image with no edge of any stroke's scale: every stroke has at least min_length control points
+    # (min_length - 1 radii long) unless it ran into the canvas border
+    h, w = 160, 240
+    y, x = np.mgrid[0:h, 0:w].astype(np.float32)
+    img = np.stack([0.3 + 0.3 * x / w, 0.4 + 0.2 * y / h, 0.5 + 0.1 * np.sin(x / 40)], axis=2).astype(np.float32)
+    params = Params(detail_pass=False)
+    painting = paint(img, params)
+    assert len(painting.strokes) > 20
+    short = 0
+    for s in painting.strokes:
+        step = max(1.0, s.size / 2)
+        if path_length(s.path) >= (params.min_length - 1) * step * 0.98:
+            continue
+        near_border = (s.path[:, 0].min() < step + s.size / 2 or s.path[:, 1].min() < step + s.size / 2
+                       or s.path[:, 0].max() > w - 1 - step - s.size / 2 or s.path[:, 1].max() > h - 1 - step - s.size / 2)
+        short += not near_border
+    assert short == 0
+
+
+# ---------------------------------------------------------------------------
+# colour that stays put
+
+
+def test_an_anchor_on_a_one_pixel_star_does_not_tint_the_stroke(flat):
+    ref = np.full((120, 320, 3), 0.1, np.float32)
+    ref[60, 160] = 1.0
+    params = Params(perturbation=0.0, canvas_colour=(0.1, 0.1, 0.1))    # any tint shows against the field
+    canvas, stroke = one_stroke(ref, (160, 60), 32, flat, params)
+    assert np.abs(stroke.colour - 0.1).max() < 0.03
+    painted = canvas.coverage > 0.5
+    assert painted.sum() > 2000
+    assert np.abs(canvas.colour[painted] - 0.1).max() < 0.05      # no bright scratch along the path
+
+
+def test_a_one_pixel_light_on_a_flat_field_survives_the_painting():
+    img = np.full((96, 128, 3), (0.15, 0.18, 0.3), np.float32)
+    img[40, 70] = (1.0, 0.95, 0.8)
+    painting = paint(img, Params())
+    around = painting.colour[38:43, 68:73].mean(axis=2)
+    assert around.max() > 0.15 + 0.4
+    assert painting.statistics["detail_strokes"] >= 1
+    # and nothing else got brighter: the field away from the light is the field
+    far = np.ones(img.shape[:2], bool)
+    far[30:51, 60:81] = False
+    assert np.abs(painting.colour[far] - img[far]).max() < 0.08
+
+
+def test_the_perturbation_changes_lightness_far_more_than_hue(flat):
+    tip = brush_tip(flat, 16, 0.9)
+    ref = np.full((40, 40, 3), (0.6, 0.35, 0.25), np.float32)
+    sources = colour_sources(ref, [16], Params())[16]
+    rng = np.random.default_rng(11)
+    means = []
+    for _ in range(200):
+        colours, _ = bristle_colours(sources, (20, 20), 0.0, tip, 0.7, 0.15, colour_jitter(rng, 0.03, 0.0))
+        means.append(colours.mean(axis=0))
+    lab_values = lab(np.array(means, np.float64))
+    lightness_spread = lab_values[:, 0].std()
+    hue = np.arctan2(lab_values[:, 2], lab_values[:, 1])
+    chroma = np.hypot(lab_values[:, 1], lab_values[:, 2]).mean()
+    hue_spread = hue.std() * chroma                     # spread across the hue circle, in a*b* units
+    assert lightness_spread > 1.0
+    assert hue_spread < 0.1 * lightness_spread
+
+
+# ---------------------------------------------------------------------------
+# anti-aliased bristles
+
+
+def test_a_sub_pixel_shift_moves_the_centre_of_mass_by_that_shift(flat):
+    tip = brush_tip(flat, 8, 0.9)
+    colours = np.ones((len(tip), 3), np.float32)
+    xs = np.arange(20.0, 40.0)
+    base = np.stack([xs, np.full_like(xs, 20.0)], axis=1)
+    angles = np.full(len(xs), 0.3)
+
+    def centre(shift):
+        fp = stroke_footprint(base + shift, angles, tip.along, tip.across, tip.intensity, colours, (48, 64),
+                              rows=tip.length)
+        y, x = np.divmod(fp.pixels.astype(np.float64), 64)
+        return np.array([np.sum(x * fp.deposit), np.sum(y * fp.deposit)]) / fp.deposit.sum(), fp.deposit.sum()
+
+    (c0, total0) = centre(np.zeros(2))
+    for shift in ((0.3, 0.0), (0.0, 0.45), (0.25, -0.7)):
+        c, total = centre(np.array(shift))
+        np.testing.assert_allclose(c - c0, shift, atol=0.01)
+        assert total == pytest.approx(total0, rel=1e-4)            # the same paint, only moved
+
+
+def test_small_brushes_leave_no_pinholes(flat):
+    for size in (4, 6, 8):
+        ref = np.full((80, 160, 3), 0.4, np.float32)
+        orientation = np.full((80, 160), 0.37, np.float32)            # a turned stroke
+        canvas, stroke = one_stroke(ref, (80, 40), size, flat, orientation=orientation)
+        inside = canvas.coverage > 0
+        # pixels within the stroke's body (a third of the width from the path) are all well covered
+        ys, xs = np.nonzero(inside)
+        path = stroke.path.astype(np.float64)
+        a, b = path[:-1], path[1:]
+        p = np.stack([xs, ys], axis=1).astype(np.float64)
+        ab = b - a
+        t = np.clip(np.einsum("nsk,sk->ns", p[:, None, :] - a[None], ab) / np.sum(ab * ab, axis=1), 0, 1)
+        d = np.min(np.hypot(*(a[None] + t[..., None] * ab[None] - p[:, None, :]).transpose(2, 0, 1)), axis=1)
+        lo, hi = np.percentile(path[:, 0], [25, 75])
+        body = (d < size / 3) & (xs > lo) & (xs < hi)                    # away from the tapered ends
+        assert body.sum() > 5 * size
+        assert canvas.coverage[ys[body], xs[body]].min() > 0.8, size
+
+
+# ---------------------------------------------------------------------------
+# relief like paint
+
+
+def test_flat_brush_height_has_ridges_and_ends_never_dig_into_the_paint_below(flat):
+    size = 24
+    ref = np.full((100, 300, 3), 0.5, np.float32)
+    params = Params()
+    canvas = Canvas.blank(ref.shape[:2], params.canvas_colour)
+    canvas.height[...] = 0.3                                       # older, thinner paint underneath
+    canvas, stroke = one_stroke(ref, (150, 50), size, flat, params, canvas=canvas)
+    profile = canvas.height[50 - size // 2: 50 + size // 2, 150]
+    centre = profile[size // 2 - 2: size // 2 + 2].mean()
+    sides = max(profile[2:5].max(), profile[-5:-2].max())
+    assert sides > 1.1 * centre
+    assert canvas.height.min() >= 0.3 - 1e-6                      # no groove anywhere, ends included
+    x_end = int(stroke.path[:, 0].max())
+    assert canvas.height[40:61, x_end - 2: x_end + 10].min() >= 0.3 - 1e-6
+
+
+def test_repeated_accumulate_strokes_on_one_spot_converge(flat):
+    ref = np.full((60, 160, 3), 0.5, np.float32)
+    params = Params(height_mode="accumulate", height_build=0.5)
+    canvas = Canvas.blank(ref.shape[:2], params.canvas_colour)
+    peaks = []
+    for _ in range(30):
+        canvas, _ = one_stroke(ref, (80, 30), 16, flat, params, canvas=canvas)
+        peaks.append(float(canvas.height.max()))
+    assert peaks[1] > peaks[0]
+    assert abs(peaks[-1] - peaks[-2]) < 1e-3 * peaks[-1]
+    assert peaks[-1] <= 2.0 / (1.0 - 0.5) * peaks[0]
+
+
+# ---------------------------------------------------------------------------
+# the whole painter on a bundled photograph
+
+
+def test_bundled_sample_strokes_are_long_clean_and_cover_the_canvas():
+    image = read_image(ROOT / "sample_scenes" / "chelsea.png")
+    painting = paint(image, Params())
+    shape = painting.statistics["stroke_shape"]
+    assert shape["median_length_to_width"] >= 1.5
+    assert shape["median_length_to_width_first_layer"] >= 2.0
+    assert shape["dab_area_share"] <= 0.03
+    inner = painting.coverage[4:-4, 4:-4]
+    assert np.mean(inner < 0.5) < 0.001                            # bare canvas below 0.1 %
+    first = [s for s in painting.strokes if s.layer == 0]
+    on_corner = 0
+    corners = {(int(g[0]), int(g[1])) for g in painting.analysis.grids}
+    for s in first:
+        on_corner += tuple(s.anchor) in corners
+    assert on_corner < 0.05 * len(first)                           # ties broken by the generator
+    assert math.isfinite(painting.statistics["psnr_db"]) and painting.statistics["psnr_db"] > 22
