@@ -50,7 +50,7 @@ def test_maps_agree_with_the_painting(painted):
     assert channels == ["Y"] and height.shape == (48, 64, 1)
     assert height.min() >= 0.0 and height.max() <= 1.0 and height.max() > 0.1
     assert opacity.min() >= 0.0 and opacity.max() <= 1.0
-    assert attributes["paint_relief:seed"] == 3
+    assert attributes["paint_relief:seed"] == "3"
     assert attributes["paint_relief:height_mode"] == "over"
     assert json.loads(attributes["paint_relief:params"])["layers"] == 4
 
