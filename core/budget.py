@@ -136,7 +136,7 @@ def check_bomb(path, width: int, height: int) -> None:
         return
     if pixels >= BOMB_MIN_PIXELS and pixels / size > BOMB_PIXELS_PER_BYTE:
         raise InputError(f"The image {path} holds {width} x {height} pixels in only {size} bytes "
-                         f"({pixels / size:.0f} pixels per byte), a decompression bomb; it was not opened.")
+                         f"({pixels / size:.0f} pixels per byte), a decompression bomb; its pixels were not decoded.")
 
 
 def check(path, width: int, height: int, layers: int = 4, mask: bool = False,

@@ -45,7 +45,7 @@ def _handler(signum, frame) -> None:
 
 
 def install() -> callable:
-    """Make SIGINT and SIGTERM raise Interrupted; returns a function restoring the previous handlers.
+    """Make SIGINT and SIGTERM raise Interrupted and ignore SIGXFSZ; returns a function restoring the previous handlers.
 
     Does nothing (and returns a no-op) outside the main thread, where Python
     cannot install handlers.
@@ -53,6 +53,8 @@ def install() -> callable:
     if threading.current_thread() is not threading.main_thread():
         return lambda: None
     previous = {s: signal.signal(s, _handler) for s in _NAMES}
+    if hasattr(signal, "SIGXFSZ"):  # a file-size limit then fails the write (EFBIG) instead of killing the process
+        previous[signal.SIGXFSZ] = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
 
     def restore() -> None:
         for s, h in previous.items():

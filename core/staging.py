@@ -140,12 +140,12 @@ def recover(folder: pathlib.Path) -> None:
 def settle(folder: pathlib.Path) -> None:
     """Complete an interrupted commit in ``folder`` when no run is writing there; otherwise do nothing.
 
-    For readers: after ``settle`` a folder no writer holds is never mixed.
+    For readers: after ``settle`` a folder no writer holds is never mixed,
+    and holds no staging folder, journal or lock file of a stopped run.
     Never raises.
     """
     folder = pathlib.Path(folder)
-    if not (folder / JOURNAL_NAME).exists() and not any(
-            p.name.startswith(STAGING_PREFIX) for p in _listing(folder)):
+    if not any(p.name.startswith((STAGING_PREFIX, JOURNAL_NAME, folderlock.LOCK_NAME)) for p in _listing(folder)):
         return
     try:
         with folderlock.acquire(folder, attempts=2):
