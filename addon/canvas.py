@@ -95,6 +95,12 @@ def load_maps(folder):
     for path in paths.values():
         if not os.path.isfile(path):
             raise CanvasError("Painted map {} does not exist; paint first or choose a painted folder.".format(path))
+    from .. import core
+
+    try:  # Blender only ever receives maps OpenImageIO read in full: finite, expected channels, equal sizes
+        core.check_maps(folder, values.CANVAS_MAPS)
+    except core.PaintReliefError as error:
+        raise CanvasError(str(error)) from None
     before = set(bpy.data.images)
     images = {}
     try:

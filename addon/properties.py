@@ -8,6 +8,8 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 from bpy.types import PropertyGroup
 
+from . import values
+
 # ``__package__`` here is "<extension package>.addon"; the extension package
 # (``bl_ext.<repository>.paint_relief`` when installed) is its parent. Blender
 # keys preferences and per-extension user folders by that parent name.
@@ -96,9 +98,11 @@ class PaintReliefSettings(PropertyGroup):
         name="Stroke Sizes",
         description=(
             "Brush widths in pixels for a 1-megapixel photograph, largest first, separated by commas "
-            "(they scale with the square root of the photograph's size)"
+            "(they scale with the square root of the photograph's size), each from 1 to {} px".format(
+                values.MAX_STROKE_SIZE)
         ),
         default="64,32,16,8,4",
+        maxlen=64,
     )
     layers: IntProperty(
         name="Layers",

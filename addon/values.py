@@ -13,6 +13,8 @@ COLOR_MAP = "color.exr"
 HEIGHT_MAP = "height.exr"
 OPACITY_MAP = "opacity.exr"
 CANVAS_MAPS = (COLOR_MAP, HEIGHT_MAP, OPACITY_MAP)
+# Largest stroke size in pixels at 1 megapixel (core.params.MAX_STROKE_SIZE).
+MAX_STROKE_SIZE = 1024
 
 
 def parse_sizes(text):
@@ -32,6 +34,9 @@ def parse_sizes(text):
             raise ValueError("Stroke size {!r} is not a whole number of pixels.".format(part)) from None
         if value <= 0:
             raise ValueError("Stroke size {} must be positive.".format(value))
+        if value > MAX_STROKE_SIZE:
+            raise ValueError("Stroke size {} is larger than {} px, a brush as wide as a 1-megapixel "
+                             "photograph.".format(value, MAX_STROKE_SIZE))
         sizes.append(value)
     return tuple(sizes)
 

@@ -9,7 +9,7 @@ from .params import Params
 from .version import __version__
 
 __all__ = [
-    "__version__", "Params", "Analysis", "analyze", "Painting", "paint", "paint_file",
+    "__version__", "Params", "Analysis", "analyze", "Painting", "paint", "paint_file", "check_maps",
     "PaintReliefError", "InputError", "OutputError", "ParameterError", "Cancelled",
 ]
 
@@ -21,6 +21,9 @@ def __getattr__(name):
     if name in ("Painting", "paint"):
         from . import painting
         return getattr(painting, name)
+    if name == "check_maps":
+        from .maps import check_maps
+        return check_maps
     if name == "paint_file":
         from .api import paint_file
         return paint_file

@@ -5,29 +5,65 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional
 
-from . import io
+from . import budget, io
+from .errors import InputError, PaintReliefError
 from .params import Params
 from .progress import CancelFn, ProgressFn
-from .staging import staged_outputs
+from .staging import output_folder
+
+
+def check_input(input_path, params: Params, mask_path: Optional[str] = None,
+                max_memory: Optional[int] = None) -> tuple:
+    """Everything that can be refused before work, from headers only (well under a second); returns (width, height).
+
+    The parameters' ranges, the input's and the mask's headers (readable,
+    not empty, within ``params.max_megapixels``, not a decompression bomb),
+    stroke sizes against the image, and the memory estimate against
+    ``max_memory`` bytes (default: the memory available). Raises a
+    PaintReliefError with one sentence.
+    """
+    params.validate()
+    width, height, _ = io.probe(input_path, params.max_megapixels)
+    budget.check_bomb(input_path, width, height)
+    if mask_path:
+        mask_w, mask_h, _ = io.probe(mask_path, params.max_megapixels)
+        budget.check_bomb(mask_path, mask_w, mask_h)
+    budget.check_stroke_sizes(params, height, width)
+    budget.check(input_path, width, height, params.layers, mask=bool(mask_path), max_memory=max_memory)
+    return width, height
 
 
 def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-               mask_path: Optional[str] = None) -> dict:
+               mask_path: Optional[str] = None, max_memory: Optional[int] = None) -> dict:
     """Read ``input_path``, paint it and write every output into ``output_dir``; return the report.
 
-    Outputs appear only when all of them were written (see staging); a
-    failure raises a PaintReliefError whose message is one sentence naming
-    the file and the problem, and leaves ``output_dir`` as it was.
+    Checks everything it can from headers first (``check_input``), then
+    locks ``output_dir`` (one writer per folder) and paints. Outputs are
+    committed all together or not at all (see ``staging``); a failure raises
+    a PaintReliefError whose message is one sentence naming the file and the
+    problem, and leaves ``output_dir`` as it was (a folder this call created
+    is removed again). Running out of memory is reported the same way.
     """
     from .export import write_painting
     from .painting import paint
 
-    params.validate()
-    out = io.ensure_output_dir(output_dir)
-    image = io.read_image(input_path, params.max_megapixels, params.canvas_colour)
-    mask = io.read_gray(mask_path, params.max_megapixels) if mask_path else None
-    painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
-    with staged_outputs(out) as staging:
-        report = write_painting(staging, painting, str(input_path))
-    report["output_dir"] = str(Path(out).resolve())
+    check_input(input_path, params, mask_path, max_memory)
+    try:
+        with output_folder(output_dir) as folder:
+            image = io.read_image(input_path, params.max_megapixels, params.canvas_colour)
+            mask = io.read_gray(mask_path, params.max_megapixels) if mask_path else None
+            painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
+            with folder.staged() as staging:
+                report = write_painting(staging, painting, str(input_path))
+    except MemoryError:
+        raise out_of_memory(input_path) from None
+    report["output_dir"] = str(Path(output_dir).resolve())
     return report
+
+
+def out_of_memory(input_path) -> PaintReliefError:
+    """The one-sentence error for a MemoryError while working on ``input_path``."""
+    available = budget.available_bytes()
+    free = f" ({budget.format_bytes(available)} available now)" if available is not None else ""
+    return InputError(f"The machine ran out of memory while painting {input_path}{free}; "
+                      f"use a smaller image or fewer layers, or free some memory.")

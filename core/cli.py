@@ -14,30 +14,63 @@ import time
 from pathlib import Path
 from typing import List, Optional
 
-from . import io
+from . import budget, io, quiet, signals
 from .analysis import Analysis, analyze
 from .errors import Cancelled, PaintReliefError, ParameterError
 from .params import STYLE_NAMES, Params
 from .progress import ConsoleProgress
-from .staging import staged_outputs
+from .staging import output_folder
 from .version import __version__
 from .visualize import orientation_picture, partition_overlay
 
 DEFAULTS = Params()
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one sentence on stderr (no usage block) and exit status 2."""
+
+    def error(self, message: str) -> None:
+        message = message.strip().rstrip(".")
+        self.exit(2, f"paint-relief: error: {message[:1].upper() + message[1:]}; see {self.prog} --help.\n")
+
+
 def _sizes(text: str) -> tuple:
     try:
         sizes = tuple(int(s) for s in text.split(",") if s.strip())
     except ValueError:
-        raise argparse.ArgumentTypeError(f"sizes must be whole numbers separated by commas, got {text!r}")
+        raise argparse.ArgumentTypeError(f"sizes must be whole numbers separated by commas, got {text[:40]!r}")
     return sizes
+
+
+def _int(text: str) -> int:
+    """A whole number of at most 40 digits (larger values cannot be valid and are not parsed)."""
+    digits = text.strip().lstrip("+-")
+    if not digits.isdigit():
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text[:40]!r}")
+    if len(digits) > 40:
+        raise argparse.ArgumentTypeError(f"expected a whole number below 2^63, got one of {len(digits)} digits")
+    return int(text)
+
+
+def _float(text: str) -> float:
+    """A finite number; NaN and infinities are refused."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan") if text.strip().lower() not in ("nan", "inf", "-inf", "infinity") else None
+    if value is None or value != value or value in (float("inf"), float("-inf")):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text[:40]!r}")
+    return value
 
 
 def _add_run_options(p: argparse.ArgumentParser) -> None:
     """Options every painting command shares: seed, pixel limit, quiet."""
-    p.add_argument("--seed", type=int, default=DEFAULTS.seed, metavar="N", help="random seed (default: %(default)s)")
-    p.add_argument("--max-megapixels", type=float, default=DEFAULTS.max_megapixels, metavar="N",
+    p.add_argument("--seed", type=_int, default=DEFAULTS.seed, metavar="N",
+                   help="random seed, a whole number 0 <= N < 2^63 (default: %(default)s)")
+    p.add_argument("--max-memory", default=None, metavar="SIZE",
+                   help="refuse runs estimated to need more memory than this, e.g. 512M or 4G "
+                        "(default: the memory available)")
+    p.add_argument("--max-megapixels", type=_float, default=DEFAULTS.max_megapixels, metavar="N",
                    help="refuse inputs larger than this (default: %(default)s)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
 
@@ -47,20 +80,20 @@ def _add_analysis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the outputs (created if missing)")
     p.add_argument("--sizes", type=_sizes, default=DEFAULTS.stroke_sizes, metavar="64,32,16,8,4",
                    help="standard stroke widths in px at 1 megapixel, scaled with the image (default: %(default)s)")
-    p.add_argument("--detail", type=float, default=DEFAULTS.detail, metavar="X",
+    p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="0..1, how finely detailed areas are split; the stop energy is "
                         "T_e = total energy * 10^-(2 + 3 X) (default: %(default)s)")
     p.add_argument("--mask", metavar="PATH", help="grayscale importance mask; white areas get smaller strokes (default: none)")
-    p.add_argument("--mask-strength", type=float, default=DEFAULTS.mask_strength, metavar="K",
+    p.add_argument("--mask-strength", type=_float, default=DEFAULTS.mask_strength, metavar="K",
                    help="k in E' = E (1 + k mask) (default: %(default)s)")
     _add_run_options(p)
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
-    parser = argparse.ArgumentParser(prog="python -m core", description="Paint Relief's painter.")
+    parser = _Parser(prog="python -m core", description="Paint Relief's painter.")
     parser.add_argument("--version", action="version", version=f"paint-relief {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     analyze_p = sub.add_parser(
         "analyze", help="reference image, importance map, canvas partition and orientation field",
         description="Write reference.png, importance.exr/.png, partition.png, orientation.png and analysis.json.")
@@ -72,7 +105,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Write color.exr (scene-linear RGB), height.exr, opacity.exr, orientation.exr, "
                     "normal.exr, painting.png, lit_paper.png, strokes.json and report.json.")
     _add_analysis_options(paint_p)
-    paint_p.add_argument("--layers", type=int, default=DEFAULTS.layers, metavar="N",
+    paint_p.add_argument("--layers", type=_int, default=DEFAULTS.layers, metavar="N",
                          help="layers of strokes, each one pass over all grids (default: %(default)s)")
     paint_p.add_argument("--brush", default=DEFAULTS.brush, metavar="flat|round|filbert|PATH",
                          help="a shipped brush or a grayscale PNG brush map, wide side across "
@@ -80,7 +113,7 @@ def build_parser() -> argparse.ArgumentParser:
     paint_p.add_argument("--height-mode", choices=("over", "accumulate"), default=DEFAULTS.height_mode,
                          help="'over': each stroke's height covers what is below (the paper); "
                               "'accumulate': paint piles up (default: %(default)s)")
-    paint_p.add_argument("--alpha", type=float, default=DEFAULTS.bristle_alpha, metavar="A",
+    paint_p.add_argument("--alpha", type=_float, default=DEFAULTS.bristle_alpha, metavar="A",
                          help="weight of each bristle's own colour in Eq. 5 (default: %(default)s)")
     paint_p.add_argument("--method", default=DEFAULTS.method, metavar="huang11|hertzmann98",
                          help="huang11: the paper's painter; hertzmann98: the Hertzmann 1998 baseline "
@@ -116,28 +149,40 @@ def params_from_args(args: argparse.Namespace) -> Params:
     return Params(**fields).validate()
 
 
+def max_memory(args: argparse.Namespace):
+    """The --max-memory option in bytes, or None."""
+    return None if args.max_memory is None else budget.parse_size(args.max_memory)
+
+
 def run_analyze(args: argparse.Namespace, progress) -> None:
     """The ``analyze`` subcommand."""
+    from .api import check_input, out_of_memory
+
     params = params_from_args(args)
-    out = io.ensure_output_dir(args.output)
-    image = io.read_image(args.input, params.max_megapixels, params.canvas_colour)
-    mask = io.read_gray(args.mask, params.max_megapixels) if args.mask else None
-    analysis = analyze(image, params, mask=mask, progress=progress)
-    with staged_outputs(out) as staging:
-        write_analysis(staging, analysis, params, args.input)
+    check_input(args.input, params, args.mask, max_memory(args))
+    try:
+        with output_folder(args.output) as folder:
+            image = io.read_image(args.input, params.max_megapixels, params.canvas_colour)
+            mask = io.read_gray(args.mask, params.max_megapixels) if args.mask else None
+            analysis = analyze(image, params, mask=mask, progress=progress)
+            with folder.staged() as staging:
+                write_analysis(staging, analysis, params, args.input)
+    except MemoryError:
+        raise out_of_memory(args.input) from None
 
 
 def run_paint(args: argparse.Namespace, progress) -> None:
     """The ``paint`` subcommand."""
     from .api import paint_file
 
-    paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask)
+    paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask,
+               max_memory=max_memory(args))
 
 
 def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -> None:
     """Write the analysis pictures, maps and figures into folder ``out``."""
     t0 = time.perf_counter()
-    attributes = {"paint_relief:version": __version__, "paint_relief:seed": params.seed,
+    attributes = {"paint_relief:version": __version__, "paint_relief:seed": str(params.seed),
                   "paint_relief:params": json.dumps(params.to_dict(), sort_keys=True)}
     io.write_png(out / "reference.png", analysis.reference)
     io.write_exr(out / "importance.exr", analysis.importance, channels=("Y",), attributes=attributes)
@@ -242,7 +287,7 @@ def _add_experiments_parser(sub) -> None:
                     "(strokes, seconds, PSNR, SSIM, edge fidelity, stroke ratio) and <image>_sheet.png.")
     p.add_argument("images", nargs="+", metavar="IMAGE", help="photographs to paint")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the tables and sheets")
-    p.add_argument("--detail", type=float, default=DEFAULTS.detail, metavar="X",
+    p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="detail of the paper's method (default: %(default)s)")
     _add_run_options(p)
     p.set_defaults(run=run_experiments_command)
@@ -253,7 +298,8 @@ def run_experiments_command(args: argparse.Namespace, progress) -> None:
     from .experiments import run_experiments
 
     params = Params(detail=args.detail, seed=args.seed, max_megapixels=args.max_megapixels).validate()
-    run_experiments([Path(p) for p in args.images], Path(args.output), params, progress=progress)
+    run_experiments([Path(p) for p in args.images], Path(args.output), params, progress=progress,
+                    max_memory=max_memory(args))
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -261,17 +307,39 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     console = None if args.quiet else ConsoleProgress()
+    restore = signals.install()
+    quiet.enable()
     try:
         args.run(args, console)
+    except signals.Interrupted as exc:
+        return _fail(console, _interrupted_message(exc, args), exc.status)
     except Cancelled as exc:
         return _fail(console, str(exc), 130)
     except KeyboardInterrupt:
-        return _fail(console, "Interrupted; no output was written.", 130)
+        return _fail(console, f"Interrupted; {_folder_phrase(args)} was left as it was.", 130)
+    except MemoryError:
+        return _fail(console, "error: The machine ran out of memory; nothing was written.", 2)
     except PaintReliefError as exc:
         return _fail(console, f"error: {exc}", 2)
+    finally:
+        quiet.enable(False)
+        restore()
     if console is not None:
         console.close()
     return 0
+
+
+def _folder_phrase(args: argparse.Namespace) -> str:
+    """'the output folder X' (or 'the folder X' for light) for messages."""
+    folder = getattr(args, "output", None) or getattr(args, "outdir", None)
+    return f"the output folder {folder}" if folder else "the output folder"
+
+
+def _interrupted_message(exc: "signals.Interrupted", args: argparse.Namespace) -> str:
+    """A true sentence about what a signal left behind."""
+    if exc.committed:
+        return f"Stopped by {exc.name} after every output was written to {exc.committed}."
+    return f"Stopped by {exc.name}; {_folder_phrase(args)} was left as it was."
 
 
 def _fail(console, message: str, status: int) -> int:

@@ -13,7 +13,7 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List, Sequence
+from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
@@ -21,6 +21,7 @@ from . import io
 from .lighting import bump_lighting, paper_lighting
 from .metrics import edge_fidelity, psnr, ssim
 from .painting import Painting, paint
+from .errors import ParameterError
 from .params import Params
 from .progress import CancelFn, ProgressFn, Stage
 from .sheet import contact_sheet
@@ -124,25 +125,49 @@ def markdown_table(by_image: Dict[str, Dict[str, Row]]) -> str:
     return "\n".join(text) + "\n"
 
 
+def check_names(paths: Sequence[Path]) -> None:
+    """ParameterError when two images would share a table row name or a contact sheet file.
+
+    Rows are named by the file name and sheets by the stem, so ``a/x.png``
+    and ``b/x.png`` (or ``x.png`` and ``x.jpg``) cannot be told apart.
+    """
+    seen: Dict[str, Path] = {}
+    for path in map(Path, paths):
+        for key in {path.name.lower(), path.stem.lower()}:
+            if key in seen and seen[key] != path:
+                raise ParameterError(f"The images {seen[key]} and {path} have the same name {key!r}, so their "
+                                     f"rows and contact sheets would clash; rename or copy one of them.")
+            seen[key] = path
+
+
 def run_experiments(paths: Sequence[Path], out_dir: Path, params: Params, progress: ProgressFn = None,
-                    cancel: CancelFn = None) -> List[Row]:
-    """Paint every image with every method; write table.md, table.csv and <image>_sheet.png into ``out_dir``."""
-    from .staging import staged_outputs
+                    cancel: CancelFn = None, max_memory: Optional[int] = None) -> List[Row]:
+    """Paint every image with every method; write table.md, table.csv and <image>_sheet.png into ``out_dir``.
+
+    Every image is checked (names, headers, memory; see ``api.check_input``)
+    before any work and before ``out_dir`` is created.
+    """
+    from .api import check_input
+    from .staging import output_folder
 
     params.validate()
-    out = io.ensure_output_dir(out_dir)
-    stage = Stage(progress, cancel)
-    rows: List[Row] = []
-    sheets = {}
-    for i, path in enumerate(paths):
-        image_rows, sheet = run_image(Path(path), params, stage.sub(i / len(paths), (i + 1) / len(paths)))
-        rows += image_rows
-        sheets[Path(path).stem] = sheet
-    markdown, csv_text = tables(rows)
-    with staged_outputs(out) as staging:
-        for stem, sheet in sheets.items():
-            io.write_png(staging / f"{stem}_sheet.png", sheet)
-        io.write_text(staging / "table.md", markdown)
-        io.write_text(staging / "table.csv", csv_text)
+    paths = [Path(p) for p in paths]
+    check_names(paths)
+    for path in paths:
+        check_input(path, params, max_memory=max_memory)
+    with output_folder(out_dir) as folder:
+        stage = Stage(progress, cancel)
+        rows: List[Row] = []
+        sheets = {}
+        for i, path in enumerate(paths):
+            image_rows, sheet = run_image(path, params, stage.sub(i / len(paths), (i + 1) / len(paths)))
+            rows += image_rows
+            sheets[path.stem] = sheet
+        markdown, csv_text = tables(rows)
+        with folder.staged() as staging:
+            for stem, sheet in sheets.items():
+                io.write_png(staging / f"{stem}_sheet.png", sheet)
+            io.write_text(staging / "table.md", markdown)
+            io.write_text(staging / "table.csv", csv_text)
     stage.report(1.0, f"Compared {len(paths)} image(s)")
     return rows

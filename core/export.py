@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import time
 from pathlib import Path
@@ -16,13 +17,31 @@ from .version import __version__
 
 
 def map_attributes(painting: Painting) -> dict:
-    """EXR header attributes that say how a painting was made."""
+    """EXR header attributes that say how a painting was made.
+
+    The seed is stored as decimal text: header integers hold only 32 bits and
+    seeds go up to 2^63 - 1.
+    """
     return {
         "paint_relief:version": __version__,
-        "paint_relief:seed": painting.params.seed,
+        "paint_relief:seed": str(painting.params.seed),
         "paint_relief:height_mode": painting.params.height_mode,
         "paint_relief:params": json.dumps(painting.params.to_dict(), sort_keys=True),
     }
+
+
+PAINTING_FILES = ("color.exr", "height.exr", "opacity.exr", "orientation.exr", "normal.exr", "painting.png",
+                  "lit_paper.png", "strokes.json", "report.json")
+"""Every file ``write_painting`` writes, report.json last."""
+
+
+def file_digests(folder: Path, names) -> dict:
+    """{name: {"bytes": size, "sha256": hex digest}} of the files ``names`` in ``folder``."""
+    digests = {}
+    for name in names:
+        data = (Path(folder) / name).read_bytes()
+        digests[name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+    return digests
 
 
 def write_painting(folder: Path, painting: Painting, source: str) -> dict:
@@ -39,7 +58,8 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     painting.png the painting, 8-bit sRGB
     lit_paper.png the painting lit by the paper's Eq. 6-7 at strength PAPER_STRENGTH, 8-bit sRGB
     strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
-    report.json  figures of the run
+    report.json  figures of the run, and the size and SHA-256 of every other file above
+                 ("files"), so a folder can be checked to hold one complete painting
     """
     folder = Path(folder)
     t0 = time.perf_counter()
@@ -60,6 +80,7 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     report = dict(painting.statistics)
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
     report.update({"input": str(source), "params": painting.params.to_dict(),
-                   "height_range": [float(np.min(painting.height)), float(np.max(painting.height))]})
+                   "height_range": [float(np.min(painting.height)), float(np.max(painting.height))],
+                   "files": file_digests(folder, PAINTING_FILES[:-1])})
     io.write_json(folder / "report.json", report)
     return report

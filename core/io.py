@@ -19,6 +19,7 @@ from typing import Dict, Iterator, List, Optional, Sequence, Tuple, Union
 import numpy as np
 import OpenImageIO as oiio
 
+from . import quiet
 from .colour import linear_to_srgb, luminance
 from .errors import InputError, OutputError
 from .params import CANVAS_COLOUR
@@ -92,18 +93,19 @@ def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, boo
     oiio.geterror()  # drop any stale global error
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
-    inp = oiio.ImageInput.open(str(path), config)
-    if inp is None:
-        why = _reason(_oiio_error(), "not an image file OpenImageIO can read")
-        raise InputError(f"Cannot read the image {path}: {why}.")
-    try:
-        spec = inp.spec()
-        _check_spec(path, spec, max_megapixels)
-        data = _read_first_image(path, inp, spec)
-        linear = _is_linear(path, inp.format_name(), spec)
-        associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
-    finally:
-        inp.close()
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path), config)
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, max_megapixels)
+            data = _read_first_image(path, inp, spec)
+            linear = _is_linear(path, inp.format_name(), spec)
+            associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
+        finally:
+            inp.close()
     if not np.all(np.isfinite(data)):
         raise InputError(f"The image {path} holds NaN or infinite values.")
     data, has_alpha = _select_channels(data)
@@ -163,6 +165,28 @@ def _to_srgb(colour: np.ndarray, linear: bool) -> np.ndarray:
     if linear:
         return linear_to_srgb(colour)
     return np.clip(colour, 0.0, 1.0).astype(np.float32)
+
+
+def probe(path: PathLike, max_megapixels: float = float("inf")) -> Tuple[int, int, int]:
+    """(width, height, channels) of the first image in ``path``, from its header alone (no pixel is decoded).
+
+    Same InputError rules as ``read_image`` for missing, empty, unreadable
+    and too large files.
+    """
+    path = pathlib.Path(path)
+    _check_input_path(path)
+    oiio.geterror()
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path))
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, max_megapixels)
+            return int(spec.width), int(spec.height), int(spec.nchannels)
+        finally:
+            inp.close()
 
 
 def read_image(path: PathLike, max_megapixels: float = 50.0,
@@ -231,21 +255,22 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
     path = pathlib.Path(path)
     _check_input_path(path)
     oiio.geterror()
-    inp = oiio.ImageInput.open(str(path))
-    if inp is None:
-        why = _reason(_oiio_error(), "not an image file OpenImageIO can read")
-        raise InputError(f"Cannot read the image {path}: {why}.")
-    try:
-        spec = inp.spec()
-        _check_spec(path, spec, float("inf"))
-        pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
-        error = inp.geterror() if inp.has_error else ""
-        names = list(spec.channelnames)
-        attributes = {a.name: a.value for a in spec.extra_attribs}
-    finally:
-        inp.close()
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path))
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, float("inf"))
+            pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
+            error = inp.geterror() if inp.has_error else ""
+            names = list(spec.channelnames)
+            attributes = {a.name: a.value for a in spec.extra_attribs}
+        finally:
+            inp.close()
     if pixels is None or error:
-        why = _reason(error or oiio.geterror(), "the pixel data could not be read")
+        why = _reason(error or oiio.geterror() or printed.text, "the pixel data could not be read")
         raise InputError(f"Cannot read the image {path}: {why}.")
     data = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
     if not np.all(np.isfinite(data)):
@@ -340,11 +365,16 @@ def _as_hwc(data: np.ndarray) -> np.ndarray:
 
 
 def _attribute_value(value):
-    """str / int / float (NumPy scalars and bools included) for an OpenImageIO header attribute."""
+    """str / int / float (NumPy scalars and bools included) for an OpenImageIO header attribute.
+
+    Integers outside the 32-bit range become decimal text so they are stored exactly.
+    """
     if isinstance(value, np.generic):
         value = value.item()
     if isinstance(value, bool):
         return int(value)
+    if isinstance(value, int) and not -2**31 <= value < 2**31:
+        return str(value)  # header integers hold 32 bits: larger ones are kept exactly as text
     if isinstance(value, (str, int, float)):
         return value
     raise ValueError(f"Header attribute values must be str, int or float, got {type(value).__name__}.")
@@ -352,7 +382,7 @@ def _attribute_value(value):
 
 def _write_with_oiio(path: pathlib.Path, spec, pixels: np.ndarray) -> None:
     """Write ``pixels`` with ``spec`` to ``path`` through a temporary file; OutputError on any failure."""
-    with atomic_path(path) as temp:
+    with atomic_path(path) as temp, quiet.captured() as printed:
         oiio.geterror()
         out = oiio.ImageOutput.create(str(temp))
         if out is None:
@@ -363,7 +393,7 @@ def _write_with_oiio(path: pathlib.Path, spec, pixels: np.ndarray) -> None:
         finally:
             closed = out.close()
         if not ok or not closed:
-            why = _reason(error or _oiio_error(out), "the image could not be written")
+            why = _reason(error or _oiio_error(out) or printed.text, "the image could not be written")
             raise OutputError(f"Cannot write {path}: {why}.")
 
 

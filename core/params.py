@@ -21,6 +21,10 @@ STYLE_NAMES = ("impressionist", "expressionist", "colorist_wash", "pointillist")
 LAYOUTS = ("paper", "hertzmann98")
 RENDERERS = ("bristles", "lines")
 PATH_RULES = ("natural", "literal")
+MAX_STROKE_SIZE = 1024
+"""Largest standard stroke size (px at 1 megapixel, a brush as wide as such an image)."""
+SEED_LIMIT = 2**63
+"""Seeds are whole numbers 0 <= seed < SEED_LIMIT."""
 
 
 @dataclass(frozen=True)
@@ -156,9 +160,17 @@ class Params:
             if not ok:
                 raise ParameterError(text)
 
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            for v in (value if isinstance(value, tuple) else (value,)):
+                need(not isinstance(v, float) or math.isfinite(v),
+                     f"The parameter {f.name} must be a finite number, got {v}.")
         need(len(self.stroke_sizes) > 0, "Stroke sizes must list at least one size.")
-        need(all(isinstance(s, (int, float)) and s > 0 for s in self.stroke_sizes),
+        need(all(isinstance(s, (int, float)) and not isinstance(s, bool) and s > 0 for s in self.stroke_sizes),
              f"Stroke sizes must all be positive, got {list(self.stroke_sizes)}.")
+        need(all(s <= MAX_STROKE_SIZE for s in self.stroke_sizes),
+             f"Stroke sizes must be at most {MAX_STROKE_SIZE} px (a brush as wide as a 1-megapixel image), "
+             f"got {max(self.stroke_sizes)}.")
         need(self.bilateral_sigma_spatial >= 0, "The bilateral spatial sigma must not be negative.")
         need(self.bilateral_sigma_range > 0, "The bilateral range sigma must be positive.")
         need(0 < self.energy_percentile <= 100, "The energy percentile must be in (0, 100].")
@@ -197,8 +209,15 @@ class Params:
         need(self.layout in LAYOUTS, f"Unknown layout {self.layout!r}; choose paper or hertzmann98.")
         need(self.renderer in RENDERERS, f"Unknown renderer {self.renderer!r}; choose bristles or lines.")
         need(0 < self.max_megapixels <= 2000, "The pixel limit must be positive and at most 2000 megapixels.")
-        need(isinstance(self.seed, int) and self.seed >= 0, "The seed must be a whole number >= 0.")
+        need(isinstance(self.seed, int) and not isinstance(self.seed, bool) and 0 <= self.seed < SEED_LIMIT,
+             f"The seed must be a whole number from 0 to 2^63 - 1, got {_short(self.seed)}.")
         return self
+
+
+def _short(value) -> str:
+    """``value`` as text, long ones cut to their first and last digits."""
+    text = str(value)
+    return text if len(text) <= 24 else f"{text[:10]}...{text[-6:]} ({len(text)} characters)"
 
 
 def scaled_sizes(params: Params, height: int, width: int) -> Tuple[int, ...]:

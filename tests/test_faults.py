@@ -1,0 +1,558 @@
+"""The fault catalogue: bad inputs, bad numbers, failing disks, signals, kills and concurrent writers.
+
+Every case runs the command line (in a subprocess where the process itself
+matters: library messages, signals, resource limits, users) against an
+output folder that already holds a complete painting (seed 1), and asserts
+the exit status, that stderr is one sentence naming the problem, and that
+the folder afterwards holds one complete painting (``check_painting``: every
+file's size and SHA-256 as the report lists them, every EXR's header seed
+equal to the report's) or exactly its previous contents.
+"""
+
+import json
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+from addon_values import values
+
+from core import io
+from core.api import paint_file
+from core.cli import main
+from core.errors import InputError
+from core.maps import check_maps, check_painting
+from core.params import Params
+from core.staging import JOURNAL_NAME, STAGING_PREFIX, recover, settle
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO / "bench"))
+from stress_kill import stress  # noqa: E402
+
+
+# --- helpers ------------------------------------------------------------------------------------------------------
+
+def snapshot(folder: Path) -> dict:
+    """{relative path: bytes} of every file under ``folder`` (hidden ones included); None when it does not exist."""
+    if not folder.exists():
+        return None
+    return {str(p.relative_to(folder)): (p.read_bytes() if p.is_file() else "<dir>")
+            for p in sorted(folder.rglob("*"))}
+
+
+def hidden_leftovers(folder: Path) -> list:
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith((STAGING_PREFIX, ".paint-relief")))
+
+
+def run_cli(args, timeout=120, **kwargs):
+    """Run ``python -m core ARGS`` in a subprocess; returns CompletedProcess with text output."""
+    env = dict(os.environ, PYTHONPATH=str(REPO), PYTHONDONTWRITEBYTECODE="1")
+    return subprocess.run([sys.executable, "-m", "core"] + [str(a) for a in args], capture_output=True, text=True,
+                          timeout=timeout, env=env, cwd=REPO, **kwargs)
+
+
+def assert_one_sentence(err: str, *words):
+    """stderr is exactly one line, a sentence, containing every word of ``words``."""
+    text = err.strip()
+    assert text and "\n" not in text, f"not one line: {err!r}"
+    assert text.startswith("paint-relief: ") and text.endswith("."), text
+    assert "Traceback" not in text
+    for word in words:
+        assert str(word) in text, (word, text)
+
+
+def assert_untouched_or_complete(folder: Path, before: dict):
+    """The folder holds exactly ``before`` or one complete painting, and no staging, journal or lock."""
+    after = snapshot(folder)
+    if after == before:
+        return
+    assert after is not None, "the folder was removed"
+    check_painting(folder)
+    assert hidden_leftovers(folder) == []
+
+
+# --- fixtures -----------------------------------------------------------------------------------------------------
+
+def photo_array(h=32, w=40, seed=5):
+    rng = np.random.default_rng(seed)
+    image = np.zeros((h, w, 3), np.float32)
+    image[..., 0] = np.linspace(0.1, 0.9, w)[None, :]
+    image[..., 1] = 0.4
+    image[:, w // 2:] = rng.random((h, w - w // 2, 3))
+    return image
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory):
+    """Good and bad input files, by name."""
+    d = tmp_path_factory.mktemp("inputs")
+    image = photo_array()
+    io.write_png(d / "photo.png", image)
+    io.write_exr(d / "photo.exr", image)
+    io.write_png(d / "photo16.png", image, bits=16)
+    io.write_png(d / "gray.png", image[..., 0])
+    io.write_png(d / "rgba.png", np.concatenate([image, np.full((32, 40, 1), 0.5, np.float32)], axis=2))
+    buf = oiio.ImageBuf(oiio.ImageSpec(40, 32, 2, "uint8"))
+    buf.set_pixels(oiio.ROI(), (np.stack([image[..., 0], np.ones((32, 40))], axis=2) * 255).astype(np.uint8))
+    buf.write(str(d / "gray_alpha.png"))
+    buf = oiio.ImageBuf(oiio.ImageSpec(40, 32, 3, "uint8"))
+    buf.set_pixels(oiio.ROI(), (image * 255).astype(np.uint8))
+    buf.write(str(d / "photo.jpg"))
+    for name in ("photo.png", "photo.exr", "photo.jpg"):
+        data = (d / name).read_bytes()
+        (d / f"truncated_{name}").write_bytes(data[: len(data) // 2])
+    (d / "empty.png").write_bytes(b"")
+    (d / "text.png").write_text("this is not a picture\n" * 20)
+    nan = image.copy()
+    nan[3, 4, 1] = np.nan
+    io.write_exr(d / "nan.exr", nan)
+    inf = image.copy()
+    inf[5, 6, 0] = np.inf
+    io.write_exr(d / "inf.exr", inf)
+    (d / "a_folder.png").mkdir()
+    io.write_png(d / "square.png", np.full((100, 100, 3), 0.5, np.float32))
+    _bomb_png(d / "bomb.png", 7000, 7000)
+    other = d / "other"
+    other.mkdir()
+    io.write_png(other / "photo.png", photo_array(seed=9))
+    return d
+
+
+def _bomb_png(path: Path, w: int, h: int):
+    """A 1-bit gray PNG of w x h black pixels: a few kilobytes."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    raw = (b"\x00" + b"\x00" * ((w + 7) // 8)) * h
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 1, 0, 0, 0, 0))
+                     + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+@pytest.fixture(scope="module")
+def painted(inputs, tmp_path_factory):
+    """A folder holding a complete painting of photo.png with seed 1, and a user's own file."""
+    out = tmp_path_factory.mktemp("painted") / "out"
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "1"]) == 0
+    (out / "notes.txt").write_text("the user's own file\n")
+    return out
+
+
+@pytest.fixture
+def folder(painted, tmp_path):
+    """A fresh copy of the painted folder and its snapshot."""
+    out = tmp_path / "out"
+    shutil.copytree(painted, out)
+    return out, snapshot(out)
+
+
+# --- bad inputs: refused with one sentence, the folder untouched --------------------------------------------------
+
+@pytest.mark.parametrize("name, words", [
+    ("truncated_photo.png", ["truncated_photo.png"]),
+    ("truncated_photo.jpg", ["truncated_photo.jpg"]),
+    ("truncated_photo.exr", ["truncated_photo.exr"]),
+    ("empty.png", ["empty.png", "empty"]),
+    ("text.png", ["text.png"]),
+    ("missing.png", ["missing.png", "does not exist"]),
+    ("a_folder.png", ["a_folder.png", "folder"]),
+    ("nan.exr", ["nan.exr", "NaN"]),
+    ("inf.exr", ["inf.exr", "infinite"]),
+    ("bomb.png", ["bomb.png", "decompression bomb"]),
+])
+def test_bad_input_is_one_sentence_and_changes_nothing(inputs, folder, name, words):
+    out, before = folder
+    run = run_cli(["paint", inputs / name, "-o", out, "-q", "--seed", "2"])
+    assert run.returncode == 2
+    assert_one_sentence(run.stderr, *words)
+    assert snapshot(out) == before
+
+
+def test_bomb_is_refused_in_seconds(inputs, tmp_path):
+    t0 = time.monotonic()
+    run = run_cli(["paint", inputs / "bomb.png", "-o", tmp_path / "new", "-q"])
+    assert time.monotonic() - t0 < 10
+    assert run.returncode == 2 and not (tmp_path / "new").exists()
+
+
+@pytest.mark.parametrize("options, words", [
+    (["--max-megapixels", "0.001"], ["megapixels"]),
+    (["--max-memory", "1M"], ["memory", "--max-memory"]),
+    (["--max-memory", "lots"], ["--max-memory"]),
+    (["--mask", "TRUNCATED"], ["truncated_photo.png"]),
+    (["--sizes", "100000"], ["1024"]),
+    (["--sizes", "0"], ["positive"]),
+    (["--seed", "-1"], ["seed"]),
+    (["--seed", str(2**63)], ["seed", "2^63"]),
+    (["--seed", "9" * 400], ["--seed", "400 digits"]),
+    (["--seed", "1.5"], ["--seed"]),
+    (["--detail", "nan"], ["--detail", "finite"]),
+    (["--detail", "inf"], ["--detail", "finite"]),
+    (["--mask-strength", "inf"], ["--mask-strength", "finite"]),
+    (["--alpha", "nan"], ["--alpha", "finite"]),
+    (["--max-megapixels", "inf"], ["--max-megapixels"]),
+    (["--layers", "99"], ["Layers"]),
+])
+def test_bad_numbers_are_one_sentence_and_change_nothing(inputs, folder, capfd, options, words):
+    out, before = folder
+    options = [str(inputs / "truncated_photo.png") if o == "TRUNCATED" else o for o in options]
+    t0 = time.monotonic()
+    try:
+        status = main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "2"] + options)
+    except SystemExit as exc:  # options the argument parser itself refuses
+        status = exc.code
+    assert time.monotonic() - t0 < 1.0
+    assert status == 2
+    assert_one_sentence(capfd.readouterr().err, *words)
+    assert snapshot(out) == before
+
+
+def test_sizes_100000_refused_within_a_second_on_the_command_line(inputs, tmp_path):
+    t0 = time.monotonic()
+    run = run_cli(["paint", inputs / "photo.png", "-o", tmp_path / "new", "--sizes", "100000"])
+    assert time.monotonic() - t0 < 5  # includes starting Python and importing NumPy
+    assert run.returncode == 2 and not (tmp_path / "new").exists()
+    assert_one_sentence(run.stderr, "1024")
+
+
+def test_stroke_wider_than_the_image_is_refused(inputs, tmp_path, capfd):
+    assert main(["paint", str(inputs / "square.png"), "-o", str(tmp_path / "o"), "-q", "--sizes", "1024"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "wider than the image")
+    assert not (tmp_path / "o").exists()
+
+
+def test_panel_sizes_are_capped():
+    with pytest.raises(ValueError, match="1024"):
+        values.parse_sizes("64,100000")
+    assert values.parse_sizes("1024,4") == (1024, 4)
+
+
+def test_memory_error_is_one_sentence(inputs, folder, monkeypatch, capfd):
+    out, before = folder
+    import core.painting
+
+    def boom(*args, **kwargs):
+        raise MemoryError()
+    monkeypatch.setattr(core.painting, "paint", boom)
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "ran out of memory", "photo.png")
+    assert snapshot(out) == before
+
+
+# --- accepted inputs: one complete painting -----------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["photo16.png", "gray.png", "gray_alpha.png", "rgba.png", "photo.exr", "photo.jpg"])
+def test_other_formats_paint_completely(inputs, folder, name):
+    out, before = folder
+    assert main(["paint", str(inputs / name), "-o", str(out), "-q", "--seed", "2"]) == 0
+    assert check_painting(out) == "2"
+    assert (out / "notes.txt").read_text() == "the user's own file\n"
+    assert hidden_leftovers(out) == []
+
+
+@pytest.mark.parametrize("seed", [2**31, 2**53 + 1, 2**63 - 1])
+def test_large_seeds_are_stored_exactly(inputs, tmp_path, seed):
+    out = tmp_path / "o"
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", str(seed)]) == 0
+    assert check_painting(out) == str(seed)
+    report = json.loads((out / "report.json").read_text())
+    assert report["seed"] == seed and report["params"]["seed"] == seed
+    _, _, attributes = io.read_exr(out / "height.exr")
+    assert attributes["paint_relief:seed"] == str(seed)
+    assert json.loads(attributes["paint_relief:params"])["seed"] == seed
+
+
+# --- output faults ------------------------------------------------------------------------------------------------
+
+def test_output_is_a_file(inputs, tmp_path, capfd):
+    blocker = tmp_path / "blocker"
+    blocker.write_text("x")
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(blocker), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "blocker")
+    assert blocker.read_text() == "x"
+
+
+def test_output_under_a_file(inputs, tmp_path, capfd):
+    blocker = tmp_path / "blocker"
+    blocker.write_text("x")
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(blocker / "a" / "b"), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "blocker")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blocker"]
+
+
+def test_failed_run_creates_no_folders(inputs, tmp_path):
+    run = run_cli(["paint", inputs / "truncated_photo.png", "-o", tmp_path / "a" / "b" / "c", "-q"])
+    assert run.returncode == 2 and list(tmp_path.iterdir()) == []
+
+
+def test_failed_run_after_creating_the_folder_removes_it(inputs, tmp_path, monkeypatch, capfd):
+    import core.painting
+
+    def broken(*args, **kwargs):
+        raise InputError("The painter stopped on purpose.")
+    monkeypatch.setattr(core.painting, "paint", broken)
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(tmp_path / "a" / "b"), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "on purpose")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_folder_where_a_file_should_be(inputs, folder, capfd):
+    out, _ = folder
+    (out / "normal.exr").unlink()
+    (out / "normal.exr").mkdir()
+    (out / "normal.exr" / "inside.txt").write_text("keep me")
+    before = snapshot(out)
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "2"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "normal.exr", "folder")
+    assert snapshot(out) == before
+
+
+def _without_root_override():
+    """In the child: drop CAP_DAC_OVERRIDE and CAP_DAC_READ_SEARCH, so root meets folder permissions too."""
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    for capability in (1, 2):
+        if libc.prctl(24, capability, 0, 0, 0) != 0:  # PR_CAPBSET_DROP
+            raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP) failed")
+
+
+def test_unwritable_folder(inputs, tmp_path):
+    base = Path(tempfile.mkdtemp(prefix="paint-relief-ro-"))
+    try:
+        os.chmod(base, 0o755)
+        shutil.copy(inputs / "photo.png", base / "photo.png")
+        out = base / "out"
+        out.mkdir()
+        (out / "old.txt").write_text("old")
+        os.chmod(out, 0o555)
+        kwargs = {"preexec_fn": _without_root_override} if os.geteuid() == 0 else {}
+        before = snapshot(out)
+        run = run_cli(["paint", base / "photo.png", "-o", out, "-q"], **kwargs)
+        assert run.returncode == 2
+        assert_one_sentence(run.stderr, str(out))
+        assert snapshot(out) == before
+    finally:
+        os.chmod(base / "out", 0o755)
+        shutil.rmtree(base)
+
+
+@pytest.mark.parametrize("limit_kb", [1, 6, 20, 60])
+def test_full_disk(inputs, folder, limit_kb):
+    """RLIMIT_FSIZE stands in for a full disk: writes beyond it fail (EFBIG) at different files."""
+    import resource
+
+    out, before = folder
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit_kb * 1024, limit_kb * 1024))
+    run = run_cli(["paint", inputs / "photo.png", "-o", out, "-q", "--seed", "2"], preexec_fn=limit)
+    assert run.returncode == 2, run.stderr
+    assert_one_sentence(run.stderr, str(out))
+    assert snapshot(out) == before
+
+
+# --- signals, kills, stale remains, concurrent writers ------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def big_photo(tmp_path_factory):
+    """A 0.25-megapixel photograph: about a second of painting."""
+    from common import photo
+
+    path = tmp_path_factory.mktemp("big") / "big.png"
+    io.write_png(path, photo(0.25))
+    return path
+
+
+def _start(args):
+    env = dict(os.environ, PYTHONPATH=str(REPO), PYTHONDONTWRITEBYTECODE="1")
+    return subprocess.Popen([sys.executable, "-m", "core"] + [str(a) for a in args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env, cwd=REPO)
+
+
+@pytest.mark.parametrize("signum, status, name", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "SIGINT")])
+def test_signal_ends_cleanly(big_photo, folder, signum, status, name):
+    out, before = folder
+    proc = _start(["paint", big_photo, "-o", out, "-q", "--seed", "2"])
+    time.sleep(1.0)
+    proc.send_signal(signum)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == status
+    assert_one_sentence(err, name)
+    if "left as it was" in err:
+        assert snapshot(out) == before
+    else:
+        assert "every output was written" in err and check_painting(out) == "2"
+    assert hidden_leftovers(out) == []
+
+
+def test_signal_into_a_new_folder_leaves_no_folder(big_photo, tmp_path):
+    proc = _start(["paint", big_photo, "-o", tmp_path / "new" / "deeper", "-q"])
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143 and "left as it was" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_kills_during_writing(tmp_path):
+    """bench/stress_kill.py with a handful of kills: each leaves one complete painting."""
+    counts = stress(4, 0.05, seed=3, work=tmp_path, verbose=False)
+    assert counts["complete"] == counts["kills"] == 4
+    assert counts["rerun_ok"] == 4
+
+
+@pytest.mark.parametrize("delay", [0.3, 0.7])
+def test_kill_at_random_points_of_a_run(big_photo, folder, delay):
+    out, before = folder
+    proc = _start(["paint", big_photo, "-o", out, "-q", "--seed", "2"])
+    time.sleep(delay + random.Random(int(delay * 10)).uniform(0, 0.3))
+    proc.kill()
+    proc.wait()
+    settle(out)  # what the next run does first, under the folder's lock
+    assert_untouched_or_complete(out, before)
+
+
+def test_stale_staging_is_removed_by_the_next_run(inputs, folder):
+    out, _ = folder
+    stale = out / f"{STAGING_PREFIX}99999-dead"
+    stale.mkdir()
+    (stale / "color.exr").write_bytes(b"half a file")
+    (out / ".paint-relief.lock").write_text("99999")  # left by a killed process: nobody holds it
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "2"]) == 0
+    assert check_painting(out) == "2" and hidden_leftovers(out) == []
+
+
+def test_interrupted_commit_is_completed_by_the_next_run(inputs, folder, tmp_path):
+    """A journal left mid-commit (SIGKILL after the commit point) is rolled forward before anything else."""
+    out, _ = folder
+    new = tmp_path / "new"
+    assert main(["paint", str(inputs / "other" / "photo.png"), "-o", str(new), "-q", "--seed", "7"]) == 0
+    staging = out / f"{STAGING_PREFIX}12345-abcd"
+    staging.mkdir()
+    names = sorted(p.name for p in new.iterdir())
+    for i, name in enumerate(names):  # the first three were already moved when the process died
+        shutil.copy(new / name, (out if i < 3 else staging) / name)
+    (out / JOURNAL_NAME).write_text(json.dumps({"staging": staging.name, "files": names}))
+    with pytest.raises(InputError):
+        check_painting(out)  # mixed on disk until a run or a reader settles it
+    check_maps(out)  # a reader (Build Canvas) settles the folder first
+    assert check_painting(out) == "7" and hidden_leftovers(out) == []
+    assert (out / "notes.txt").exists()
+
+
+def test_torn_journal_is_discarded(inputs, folder):
+    out, before = folder
+    (out / JOURNAL_NAME).write_text('{"staging": ".staging-1-x", "fil')
+    recover(out)
+    assert snapshot(out) == {k: v for k, v in before.items()}
+
+
+def test_two_concurrent_writers(big_photo, folder):
+    out, _ = folder
+    first = _start(["paint", big_photo, "-o", out, "-q", "--seed", "2"])
+    time.sleep(0.6)
+    second = _start(["paint", big_photo, "-o", out, "-q", "--seed", "3"])
+    _, err2 = second.communicate(timeout=120)
+    _, err1 = first.communicate(timeout=120)
+    assert first.returncode == 0, err1
+    assert second.returncode == 2
+    assert_one_sentence(err2, str(out), "being written by process", str(first.pid))
+    assert check_painting(out) == "2" and hidden_leftovers(out) == []
+
+
+def test_analyze_and_paint_share_the_lock(big_photo, folder):
+    out, _ = folder
+    first = _start(["paint", big_photo, "-o", out, "-q", "--seed", "2"])
+    time.sleep(0.6)
+    second = run_cli(["analyze", big_photo, "-o", out, "-q"])
+    first.communicate(timeout=120)
+    assert second.returncode == 2 and "being written" in second.stderr
+    assert check_painting(out) == "2"
+
+
+# --- experiments --------------------------------------------------------------------------------------------------
+
+def test_experiments_with_two_images_of_the_same_name(inputs, tmp_path, capfd):
+    out = tmp_path / "exp"
+    assert main(["experiments", str(inputs / "photo.png"), str(inputs / "other" / "photo.png"), "-o", str(out),
+                 "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "photo.png", "same name")
+    assert not out.exists()
+
+
+def test_experiments_refuse_a_bad_image_before_any_work(inputs, tmp_path, capfd):
+    out = tmp_path / "exp"
+    assert main(["experiments", str(inputs / "photo.png"), str(inputs / "truncated_photo.exr"), "-o", str(out),
+                 "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "truncated_photo.exr")
+    assert not out.exists()
+
+
+# --- maps before Blender ------------------------------------------------------------------------------------------
+
+def _break(folder: Path, kind: str):
+    height, channels, attributes = io.read_exr(folder / "height.exr")
+    keep = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
+    if kind == "truncated":
+        data = (folder / "height.exr").read_bytes()
+        (folder / "height.exr").write_bytes(data[: len(data) // 2])
+    elif kind == "zero":
+        (folder / "height.exr").write_bytes(b"")
+    elif kind == "nan":
+        height[2, 3, 0] = np.nan
+        io.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
+    elif kind == "inf":
+        height[2, 3, 0] = np.inf
+        io.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
+    elif kind == "channels":
+        io.write_exr(folder / "height.exr", np.repeat(height, 3, axis=2), attributes=keep)
+    elif kind == "size":
+        io.write_exr(folder / "height.exr", height[:-1], channels=("Y",), attributes=keep)
+    elif kind == "other_painting":
+        keep["paint_relief:seed"] = "99"
+        io.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
+    elif kind == "missing":
+        (folder / "height.exr").unlink()
+    elif kind == "text":
+        (folder / "height.exr").write_text("not an EXR file\n" * 50)
+
+
+@pytest.mark.parametrize("kind, words", [
+    ("truncated", ["height.exr"]), ("zero", ["height.exr", "empty"]), ("nan", ["height.exr", "NaN"]),
+    ("inf", ["height.exr", "infinite"]), ("channels", ["height.exr", "channels"]),
+    ("size", ["height.exr", "pixels"]), ("other_painting", ["height.exr", "another painting"]),
+    ("missing", ["height.exr", "does not exist"]), ("text", ["height.exr"]),
+])
+def test_bad_maps_are_refused_before_blender(folder, kind, words):
+    out, _ = folder
+    assert check_maps(out) == (40, 32)
+    _break(out, kind)
+    with pytest.raises(InputError) as caught:
+        check_maps(out)
+    message = str(caught.value)
+    assert message.endswith(".") and "\n" not in message
+    for word in words:
+        assert word in message, message
+
+
+def test_light_refuses_a_nan_map(folder, capfd):
+    out, _ = folder
+    _break(out, "nan")
+    assert main(["light", str(out), "--model", "bump", "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "height.exr", "NaN")
+
+
+def test_paint_file_refuses_before_creating_anything(inputs, tmp_path):
+    with pytest.raises(InputError, match="memory"):
+        paint_file(inputs / "photo.png", tmp_path / "x", Params(), max_memory=1)
+    assert list(tmp_path.iterdir()) == []
