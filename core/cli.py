@@ -129,6 +129,12 @@ def build_parser() -> argparse.ArgumentParser:
     paint_p.add_argument("--renderer", default=DEFAULTS.renderer, metavar="bristles|lines",
                          help="huang11 strokes: bristles (the paper's brush) or lines (solid anti-aliased "
                               "lines, Fig. 8c ablation) (default: %(default)s)")
+    paint_p.add_argument("--path-rule", default=DEFAULTS.path_rule, choices=("natural", "literal"),
+                         help="how strokes stop: natural (a minimum length, the colour and turn tests at control "
+                              "points, an edge test at the brush's scale) or literal (the paper read literally: "
+                              "every curve sample from the anchor, for ablation) (default: %(default)s)")
+    paint_p.add_argument("--no-details", dest="detail_pass", action="store_false",
+                         help="skip the detail pass that dots small highlights with the smallest brush")
     paint_p.set_defaults(run=run_paint)
     _add_light_parser(sub)
     _add_experiments_parser(sub)
@@ -141,7 +147,8 @@ def params_from_args(args: argparse.Namespace) -> Params:
               "seed": args.seed, "max_megapixels": args.max_megapixels}
     for option, name in (("layers", "layers"), ("brush", "brush"), ("height_mode", "height_mode"),
                          ("alpha", "bristle_alpha"), ("method", "method"), ("style", "style"),
-                         ("layout", "layout"), ("renderer", "renderer")):
+                         ("layout", "layout"), ("renderer", "renderer"), ("path_rule", "path_rule"),
+                         ("detail_pass", "detail_pass")):
         if hasattr(args, option):
             fields[name] = getattr(args, option)
     if isinstance(fields.get("style"), str) and fields["style"].replace("-", "_") in STYLE_NAMES:

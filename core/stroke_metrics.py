@@ -45,10 +45,10 @@ def stroke_lengths(paths: Sequence[np.ndarray]) -> np.ndarray:
 
 
 def area_share_elongated(strokes: Sequence, ratio: float = 1.5) -> float:
-    """Share of the painted area in strokes with L / w >= ``ratio`` (a stroke's area taken as w max(L, w))."""
+    """Share of the painted area in strokes with L / w >= ``ratio``, a stroke's area taken as w max(L, 1 px)."""
     length = stroke_lengths([s.path for s in strokes])
     width = np.array([float(s.size) for s in strokes])
-    area = width * np.maximum(length, width)
+    area = width * np.maximum(length, 1.0)
     return float(area[length / width >= ratio].sum() / area.sum()) if len(area) else 0.0
 
 
