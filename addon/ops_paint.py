@@ -15,7 +15,7 @@ import threading
 import bpy
 from bpy.types import Operator
 
-from . import properties, values
+from . import dependencies, properties, values
 
 # Seconds between the modal operator's progress updates.
 TIMER_INTERVAL = 0.1
@@ -49,6 +49,10 @@ def params_from_settings(settings):
 
 def _prepare(operator, context):
     """Check the inputs; return (image_path, output_dir, params) or None after reporting the problem."""
+    missing = dependencies.problem()
+    if missing is not None:
+        operator.report({"ERROR"}, missing)
+        return None
     from .. import core
 
     settings = context.scene.paint_relief
