@@ -78,7 +78,7 @@ def prepare(context):
         if not os.path.isfile(path):
             raise ValueError("Painted map {} does not exist; the comparison needs the folder the canvas was "
                              "built from.".format(path))
-    out_dir = properties.comparison_dir(context)
+    out_dir = properties.comparison_dir(context, painting_dir)
     _writable(out_dir)
     azimuths = values.sweep_azimuths(settings.compare_azimuths)
     values.check_render_names(azimuths)
