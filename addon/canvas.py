@@ -375,6 +375,7 @@ def build_material(material, images, thickness, connect_displacement, normal_map
         _link(tree, normal_image.outputs["Color"], normal.inputs["Color"])
         _link(tree, normal.outputs["Normal"], bump.inputs["Normal"])
         bump.inputs["Strength"].default_value = 0.0 if thickness <= 0 else FINE_BUMP_STRENGTH
+    _link(tree, bump.outputs["Normal"], bsdf.inputs["Normal"])
 
     displacement = nodes.new("ShaderNodeDisplacement")
     displacement.location = (0, -250)

@@ -257,6 +257,8 @@ def stage_scene(package, args, painting_dir, azimuths):
     settings.light_elevation = math.radians(args.elevation)
     settings.light_strength = KEY_BRIGHTNESS
     settings.fill_light = False
+    settings.camera_match_resolution = True  # the comparison renders one pixel per map pixel
+    settings.camera_standard_view = True
     ops = bpy.ops.paint_relief
     run_operator(ops.build_canvas)
     run_operator(ops.add_lights)
