@@ -14,14 +14,16 @@ DIST        ?= dist
 VERSION     := $(shell sed -n 's/^version *= *"\(.*\)"/\1/p' blender_manifest.toml)
 # The wheels the manifest lists (./wheels/<name>.whl), downloaded on demand.
 WHEELS      := $(shell sed -n 's|^ *"\./\(wheels/[^"]*\.whl\)".*|\1|p' blender_manifest.toml)
-# Blender 4.2 LTS as a Python module, for `make test-compat`: SciPy as in the
-# manifest's wheels, NumPy as Blender 4.2 ships it.
-COMPAT       := .venv-compat
-COMPAT_PY    := $(COMPAT)/bin/python
-COMPAT_STAMP := $(COMPAT)/.installed
-COMPAT_REQUIREMENTS := bpy==4.2.0 numpy==1.24.3 scipy==1.15.3 OpenImageIO==3.0.21.0 pytest==9.2.0 hypothesis==6.170.15
+# Blender as shipped, for `make test-shipped`: each environment holds only the bpy module of one Blender
+# version, the NumPy that version bundles and pytest. No PyPI SciPy or OpenImageIO: the extension's own
+# wheels come from the zip `make extension` builds, installed the way Blender installs them.
+SHIPPED_VERSIONS := 5.0 4.2
+SHIPPED_REQUIREMENTS_5.0 := bpy==5.0.1 numpy==1.26.4 pytest==9.2.0
+SHIPPED_REQUIREMENTS_4.2 := bpy==4.2.0 numpy==1.24.3 pytest==9.2.0
+PLATFORM_TAG := $(shell $(PYTHON) -c "import platform as p; print({'Linux': 'linux', 'Darwin': 'macos', 'Windows': 'windows'}.get(p.system(), '?') + '_' + {'x86_64': 'x64', 'AMD64': 'x64', 'arm64': 'arm64', 'aarch64': 'arm64'}.get(p.machine(), '?'))" 2>/dev/null)
+SHIPPED_ZIP := $(DIST)/paint_relief-$(VERSION)-$(PLATFORM_TAG).zip
 
-.PHONY: setup test test-compat demo bench extension clean
+.PHONY: setup test test-core test-shipped demo bench extension clean
 
 setup: $(STAMP)
 
@@ -30,7 +32,10 @@ $(STAMP): requirements.txt
 	$(PY) -m pip install --quiet --disable-pip-version-check -r requirements.txt
 	@touch $(STAMP)
 
-test: $(STAMP)
+# Everything: the whole suite in .venv, then the extension as shipped in bpy-only environments.
+test: test-core test-shipped
+
+test-core: $(STAMP)
 	$(PY) -m pytest -q
 
 # The demo: analyse and paint SAMPLE, then the lighting comparison (Cycles renders of the canvas under a sweep
@@ -67,14 +72,19 @@ wheels/%.whl:
 	  $(word 1,$(subst -, ,$*))==$(word 2,$(subst -, ,$*))
 	@test -f $@ || { echo "pip did not download $@"; exit 1; }
 
-# The add-on tests on Blender 4.2 LTS (bpy 4.2 module, Python 3.11). Not part of `test`.
-test-compat: $(COMPAT_STAMP)
-	$(COMPAT_PY) -m pytest -q -m blender -p no:cacheprovider tests/test_extension.py tests/test_addon*.py
+# The extension's tests from the built zip, once per Blender version in SHIPPED_VERSIONS (tests/shipped/).
+test-shipped: extension $(foreach v,$(SHIPPED_VERSIONS),.venv-shipped-$(v)/.installed)
+	@for v in $(SHIPPED_VERSIONS); do \
+	  s=$$(date +%s); echo "tests/shipped with Blender $$v (.venv-shipped-$$v)"; \
+	  PAINT_RELIEF_ZIP=$(abspath $(SHIPPED_ZIP)) .venv-shipped-$$v/bin/python -m pytest -q -p no:cacheprovider tests/shipped || exit 1; \
+	  echo "Blender $$v shipped tests took $$(( $$(date +%s) - s )) s"; done
 
-$(COMPAT_STAMP): Makefile
-	@test -x $(COMPAT_PY) || $(PYTHON) -m venv $(COMPAT)
-	$(COMPAT_PY) -m pip install --quiet --disable-pip-version-check $(COMPAT_REQUIREMENTS)
-	@touch $(COMPAT_STAMP)
+# pip keeps downloaded wheels in its cache, so a second environment with the same bpy downloads nothing.
+.venv-shipped-%/.installed: Makefile
+	@test -x .venv-shipped-$*/bin/python || $(PYTHON) -m venv .venv-shipped-$*
+	@s=$$(date +%s); .venv-shipped-$*/bin/python -m pip install --quiet --disable-pip-version-check $(SHIPPED_REQUIREMENTS_$*) && \
+	  echo ".venv-shipped-$* installed in $$(( $$(date +%s) - s )) s"
+	@touch $@
 
 clean:
 	rm -rf dist build $(OUT) .pytest_cache

@@ -6,10 +6,10 @@ and unregistered in reverse, so enabling, disabling and enabling again leaves
 no stale classes or properties behind.
 """
 
-from . import ops_compare, ops_paint, ops_scene, panels, properties
+from . import cli_command, dropped, ops_compare, ops_paint, ops_scene, panels, preferences, presets, properties
 
 # Register order matters: property groups first, panels (which name the operators) last.
-_modules = (properties, ops_paint, ops_scene, ops_compare, panels)
+_modules = (properties, preferences, ops_paint, ops_scene, ops_compare, presets, dropped, panels, cli_command)
 
 
 def register():

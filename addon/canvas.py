@@ -3,8 +3,14 @@
 
 The canvas is a plane in the XY plane facing +z, centred on the origin, of
 the chosen physical width (metres) and the painting's aspect; UV (0, 0) is
-the image's lower-left corner. It is found again by the custom property
-``ROLE_KEY == "canvas"``, so building again updates the same object.
+the image's lower-left corner. Every canvas is its own object with its own
+material, displacement texture and modifiers; it is marked by the custom
+property ``ROLE_KEY == "canvas"`` and remembers the painted folder it shows.
+Building from a folder a canvas of the scene already shows rebuilds that
+canvas in place: its transform, the modifiers and material nodes the user
+added, and their links, stay as they were; only Paint Relief's own parts
+(mesh grid, named nodes, named modifiers) are updated. A new canvas goes into
+the active collection at the 3D cursor, selected and active.
 
 Relief, by displacement method:
 
@@ -41,6 +47,8 @@ DISPLACE_TEXTURE_NAME = "Paint Relief Height"
 SUBDIVISION_MODIFIER = "Paint Relief Subdivision"
 DISPLACE_MODIFIER = "Paint Relief Displace"
 
+# Paint thickness (metres) at which the Normal Map node's strength is 1 (the normal map's own relief).
+NORMAL_MAP_THICKNESS = 0.002
 # Roughness of fully covering paint and of bare canvas.
 PAINT_ROUGHNESS = 0.35
 CANVAS_ROUGHNESS = 0.8
@@ -66,11 +74,52 @@ class CanvasError(Exception):
 
 
 def find_role(scene, role):
-    """Return the scene's object whose ``ROLE_KEY`` property is ``role``, or None."""
+    """Return the scene's object whose ``ROLE_KEY`` property is ``role``, or None.
+
+    For "canvas", the active object when it is a canvas, else the first canvas.
+    """
+    if role == "canvas":
+        return active_canvas(scene)
     for obj in scene.objects:
         if obj.get(ROLE_KEY) == role:
             return obj
     return None
+
+
+def canvases(scene):
+    """Every Paint Relief canvas of the scene, in the scene's order."""
+    return [obj for obj in scene.objects if obj.get(ROLE_KEY) == "canvas"]
+
+
+def active_canvas(scene, view_layer=None):
+    """The canvas the canvas operators act on: the active object when it is a canvas, else the first; or None."""
+    layer = view_layer or getattr(bpy.context, "view_layer", None)
+    active = layer.objects.active if layer is not None and layer.objects is not None else None
+    if active is not None and active.get(ROLE_KEY) == "canvas" and active.name in scene.objects:
+        return active
+    found = canvases(scene)
+    return found[0] if found else None
+
+
+def canvas_for_folder(scene, folder):
+    """The scene's canvas built from painted ``folder`` (absolute, normalised), or None."""
+    folder = os.path.normpath(bpy.path.abspath(folder))
+    for obj in canvases(scene):
+        if obj.get(PAINTING_DIR_KEY) == folder:
+            return obj
+    return None
+
+
+def link_new_object(context, obj, select=False):
+    """Link ``obj`` into the active collection; with ``select``, make it the only selected and the active object."""
+    collection = context.collection or context.scene.collection
+    collection.objects.link(obj)
+    if select:
+        for other in context.view_layer.objects:
+            if other.select_get():
+                other.select_set(False)
+        obj.select_set(True)
+        context.view_layer.objects.active = obj
 
 
 def linear_colorspace_name():
@@ -83,15 +132,15 @@ def linear_colorspace_name():
     raise CanvasError("Blender's colour configuration has no scene-linear Rec.709 colour space.")
 
 
-def load_maps(folder):
-    """Load (or reload) the canvas maps of a painted ``folder``; return {file name: image}.
+def load_maps(folder, names=values.CANVAS_MAPS):
+    """Load (or reload) the canvas maps ``names`` of a painted ``folder``; return {file name: image}.
 
     Raises CanvasError naming the first missing or unreadable file; images this
     call added are removed again then, so a failure leaves the file's data as
     it was.
     """
     folder = os.path.normpath(bpy.path.abspath(folder))
-    paths = {name: os.path.join(folder, name) for name in values.CANVAS_MAPS}
+    paths = {name: os.path.join(folder, name) for name in names}
     for path in paths.values():
         if not os.path.isfile(path):
             raise CanvasError("Painted map {} does not exist; paint first or choose a painted folder.".format(path))
@@ -126,8 +175,9 @@ def load_maps(folder):
             bpy.data.images.remove(image)
         raise
     images[values.COLOR_MAP].colorspace_settings.name = linear_colorspace_name()
-    for name in (values.HEIGHT_MAP, values.OPACITY_MAP):
-        images[name].colorspace_settings.is_data = True
+    for name in (values.HEIGHT_MAP, values.OPACITY_MAP, values.NORMAL_MAP):
+        if name in images:
+            images[name].colorspace_settings.is_data = True
     return images
 
 
@@ -179,6 +229,41 @@ def _link(tree, from_socket, to_socket):
     tree.links.new(from_socket, to_socket)
 
 
+# Node names of the canvas material's own nodes; a rebuild updates these and leaves every other node alone.
+NODE_PREFIX = "Paint Relief "
+OWN_NODE_KEY = "paint_relief_node"
+
+
+def own_nodes(tree):
+    """{name: node} of the Paint Relief nodes of ``tree`` (marked by OWN_NODE_KEY)."""
+    return {node.name: node for node in tree.nodes if node.get(OWN_NODE_KEY)}
+
+
+def update_material(material, images, thickness, connect_displacement):
+    """Point an existing canvas material at new maps and thickness; True when its own nodes are all there.
+
+    User nodes and links are untouched. Returns False (changing nothing)
+    when some of the Paint Relief nodes are gone, so the caller builds them again.
+    """
+    tree = material.node_tree
+    nodes = own_nodes(tree) if tree is not None else {}
+    names = [NODE_PREFIX + name for name in ("Colour", "Height", "Opacity", "Bump", "Displacement", "Output")]
+    if not all(name in nodes for name in names):
+        return False
+    for name, key in (("Colour", values.COLOR_MAP), ("Height", values.HEIGHT_MAP), ("Opacity", values.OPACITY_MAP)):
+        nodes[NODE_PREFIX + name].image = images[key]
+    nodes[NODE_PREFIX + "Bump"].inputs["Distance"].default_value = thickness
+    displacement, output = nodes[NODE_PREFIX + "Displacement"], nodes[NODE_PREFIX + "Output"]
+    displacement.inputs["Scale"].default_value = thickness
+    linked = [l for l in output.inputs["Displacement"].links if l.from_node == displacement]
+    if connect_displacement and not linked:
+        tree.links.new(displacement.outputs["Displacement"], output.inputs["Displacement"])
+    elif not connect_displacement:
+        for link in linked:
+            tree.links.remove(link)
+    return True
+
+
 def _image_node(nodes, image, label, interpolation, location):
     node = nodes.new("ShaderNodeTexImage")
     node.image = image
@@ -207,18 +292,26 @@ def _principled_input(node, *names):
     raise KeyError(names[0])
 
 
-def build_material(material, images, thickness, connect_displacement):
+def build_material(material, images, thickness, connect_displacement, normal_map=False):
     """Fill ``material``'s node tree with the canvas shader; return the tree.
 
     thickness: metres of paint of height 1. connect_displacement: link the
     Displacement node to the material output (CYCLES_ADAPTIVE) or leave it
-    unconnected (MESH, where the geometry is displaced already).
+    unconnected (MESH, where the geometry is displaced already). Earlier
+    Paint Relief nodes and Blender's default nodes are replaced; nodes the
+    user added stay. The nodes made here carry OWN_NODE_KEY, and the ones
+    :func:`update_material` needs are named NODE_PREFIX + role.
     """
     if material.node_tree is None:  # Blender 4.2 creates the tree only with use_nodes
         material.use_nodes = True
     tree = material.node_tree
     nodes, links = tree.nodes, tree.links
-    nodes.clear()
+    for node in list(nodes):
+        if node.get(OWN_NODE_KEY) or node.bl_idname in ("ShaderNodeBsdfPrincipled", "ShaderNodeOutputMaterial") \
+                and not material.get(OWN_NODE_KEY):
+            nodes.remove(node)
+    material[OWN_NODE_KEY] = True
+    before = set(nodes)
 
     uv = nodes.new("ShaderNodeTexCoord")
     uv.location = (-1300, 0)
@@ -275,6 +368,19 @@ def build_material(material, images, thickness, connect_displacement):
     bump.inputs["Strength"].default_value = FINE_BUMP_STRENGTH
     bump.inputs["Distance"].default_value = thickness
     _link(tree, surface.outputs["Value"], bump.inputs["Height"])
+    if normal_map:
+        # The painter's tangent-space normals (normal.exr) shade a flat plane; the weave bump stacks on top.
+        normal_image = _image_node(nodes, images[values.NORMAL_MAP], "Normal", "Linear", (-1000, -1050))
+        _link(tree, uv.outputs["UV"], normal_image.inputs["Vector"])
+        normal = nodes.new("ShaderNodeNormalMap")
+        normal.location = (-600, -1000)
+        normal.space = "TANGENT"
+        normal.uv_map = "UVMap"
+        normal.inputs["Strength"].default_value = normal_strength(thickness)
+        normal.name = NODE_PREFIX + "Normal Map"
+        _link(tree, normal_image.outputs["Color"], normal.inputs["Color"])
+        _link(tree, normal.outputs["Normal"], bump.inputs["Normal"])
+        bump.inputs["Strength"].default_value = 0.0 if thickness <= 0 else FINE_BUMP_STRENGTH
     _link(tree, bump.outputs["Normal"], bsdf.inputs["Normal"])
 
     displacement = nodes.new("ShaderNodeDisplacement")
@@ -285,7 +391,39 @@ def build_material(material, images, thickness, connect_displacement):
     _link(tree, height.outputs["Color"], displacement.inputs["Height"])
     if connect_displacement:
         _link(tree, displacement.outputs["Displacement"], output.inputs["Displacement"])
+    for node, name in ((color, "Colour"), (height, "Height"), (opacity, "Opacity"), (bump, "Bump"),
+                       (displacement, "Displacement"), (output, "Output"), (bsdf, "BSDF")):
+        node.name = NODE_PREFIX + name
+    for node in set(nodes) - before:
+        node[OWN_NODE_KEY] = True
+    output.is_active_output = True
     return tree
+
+
+def normal_strength(thickness):
+    """Strength of the Normal Map node for paint ``thickness`` metres thick (1 at NORMAL_MAP_THICKNESS)."""
+    return max(0.0, thickness / NORMAL_MAP_THICKNESS)
+
+
+def set_thickness(obj, thickness):
+    """Give a built canvas paint ``thickness`` metres thick at once: modifier, Displacement, Bump, Normal Map.
+
+    Leaves the canvas's relief switched on, as built; nothing else changes.
+    """
+    obj[THICKNESS_KEY] = float(thickness)
+    modifier = obj.modifiers.get(DISPLACE_MODIFIER)
+    if modifier is not None:
+        modifier.strength = thickness
+    material = obj.active_material
+    if material is None or material.node_tree is None:
+        return
+    for node in material.node_tree.nodes:
+        if node.bl_idname == "ShaderNodeDisplacement":
+            node.inputs["Scale"].default_value = thickness
+        elif node.bl_idname == "ShaderNodeBump":
+            node.inputs["Distance"].default_value = thickness
+        elif node.bl_idname == "ShaderNodeNormalMap" and node.get(OWN_NODE_KEY):
+            node.inputs["Strength"].default_value = normal_strength(thickness)
 
 
 def set_material_displacement(material, method):
@@ -317,8 +455,13 @@ def _set_object_adaptive(scene, obj, enabled):
 
 
 def add_adaptive_subdivision(scene, obj):
-    """A Subdivision modifier ('SIMPLE') that Cycles dices adaptively at render time."""
-    modifier = obj.modifiers.new(SUBDIVISION_MODIFIER, "SUBSURF")
+    """The canvas's Subdivision modifier ('SIMPLE') that Cycles dices adaptively at render time (updated in place)."""
+    modifier = obj.modifiers.get(SUBDIVISION_MODIFIER)
+    if modifier is not None and modifier.type != "SUBSURF":
+        obj.modifiers.remove(modifier)
+        modifier = None
+    if modifier is None:
+        modifier = obj.modifiers.new(SUBDIVISION_MODIFIER, "SUBSURF")
     modifier.subdivision_type = "SIMPLE"
     modifier.levels = 1
     modifier.render_levels = 1
@@ -332,9 +475,17 @@ def add_adaptive_subdivision(scene, obj):
 
 
 def add_displace(obj, height_image, thickness):
-    """A Displace modifier moving vertices along +z by ``thickness`` x the height map (UV mapped)."""
-    texture = bpy.data.textures.get(DISPLACE_TEXTURE_NAME)
-    if texture is None or texture.type != "IMAGE":
+    """The canvas's Displace modifier moving vertices along +z by ``thickness`` x the height map (UV mapped).
+
+    An existing one is updated in place (its position in the stack stays);
+    each canvas has its own image texture.
+    """
+    modifier = obj.modifiers.get(DISPLACE_MODIFIER)
+    if modifier is not None and modifier.type != "DISPLACE":
+        obj.modifiers.remove(modifier)
+        modifier = None
+    texture = modifier.texture if modifier is not None else None
+    if texture is None or texture.type != "IMAGE" or texture.users > 1:
         texture = bpy.data.textures.new(DISPLACE_TEXTURE_NAME, "IMAGE")
     texture.image = height_image
     texture.extension = "EXTEND"
@@ -344,7 +495,8 @@ def add_displace(obj, height_image, thickness):
         texture.use_mipmap = False
     if hasattr(texture, "filter_type"):
         texture.filter_type = "BOX"
-    modifier = obj.modifiers.new(DISPLACE_MODIFIER, "DISPLACE")
+    if modifier is None:
+        modifier = obj.modifiers.new(DISPLACE_MODIFIER, "DISPLACE")
     modifier.texture = texture
     modifier.texture_coords = "UV"
     modifier.uv_layer = "UVMap"
@@ -362,55 +514,96 @@ def build_canvas(context, folder, width_cm, thickness_mm, method):
     """Create or update the scene's canvas from the maps in ``folder``; return the object.
 
     width_cm: physical canvas width; thickness_mm: paint height 1 in
-    millimetres; method: 'CYCLES_ADAPTIVE' or 'MESH'. Raises CanvasError
+    millimetres; method: 'CYCLES_ADAPTIVE', 'MESH' or 'NORMAL_MAP' (a flat
+    plane shaded by normal.exr, no displacement). Raises CanvasError
     (before changing anything in the scene) when a map is missing or unreadable.
     """
     scene = context.scene
-    images = load_maps(folder)
+    normal_map = method == "NORMAL_MAP"
+    images = load_maps(folder, values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ()))
     map_w, map_h = images[values.COLOR_MAP].size
     width, height = values.canvas_size(map_w, map_h, width_cm)
     thickness = thickness_mm / 1000.0
 
     if method == "MESH":
         nx, ny = values.grid_resolution(map_w, map_h, PIXELS_PER_VERTEX, MAX_MESH_VERTICES)
+    elif normal_map:
+        nx = ny = 2
     else:
         longer = max(map_w, map_h)
         nx = max(2, round(ADAPTIVE_BASE_FACES * map_w / longer) + 1)
         ny = max(2, round(ADAPTIVE_BASE_FACES * map_h / longer) + 1)
     mesh = grid_mesh(CANVAS_NAME, nx, ny, width, height)
+    connect = method == "CYCLES_ADAPTIVE"
 
-    obj = find_role(scene, "canvas")
+    obj = canvas_for_folder(scene, folder)
     if obj is None:
         obj = bpy.data.objects.new(CANVAS_NAME, mesh)
         obj[ROLE_KEY] = "canvas"
-        scene.collection.objects.link(obj)
+        obj.location = scene.cursor.location
+        link_new_object(context, obj, select=True)
+        material = None
     else:
         old = obj.data
+        material = old.materials[0] if old is not None and len(old.materials) else None
         obj.data = mesh
         if old is not None and old.users == 0:
             bpy.data.meshes.remove(old)
     obj[MAP_SIZE_KEY] = (int(map_w), int(map_h))
     obj[PAINTING_DIR_KEY] = os.path.normpath(bpy.path.abspath(folder))
     obj[THICKNESS_KEY] = thickness
-    obj.location = (0.0, 0.0, 0.0)
-    obj.rotation_euler = (0.0, 0.0, 0.0)
-    obj.scale = (1.0, 1.0, 1.0)
 
-    material = bpy.data.materials.get(MATERIAL_NAME) or bpy.data.materials.new(MATERIAL_NAME)
-    build_material(material, images, thickness, connect_displacement=(method == "CYCLES_ADAPTIVE"))
+    has_normal = material is not None and material.node_tree is not None and \
+        (NODE_PREFIX + "Normal Map") in material.node_tree.nodes
+    if material is None or not material.get(OWN_NODE_KEY):
+        material = bpy.data.materials.new(MATERIAL_NAME)
+        build_material(material, images, thickness, connect_displacement=connect, normal_map=normal_map)
+    elif has_normal != normal_map or not update_material(material, images, thickness, connect_displacement=connect):
+        build_material(material, images, thickness, connect_displacement=connect, normal_map=normal_map)
+    elif normal_map:
+        nodes = material.node_tree.nodes
+        nodes[NODE_PREFIX + "Normal Map"].inputs["Strength"].default_value = normal_strength(thickness)
+        for node in nodes:
+            if node.bl_idname == "ShaderNodeTexImage" and node.get(OWN_NODE_KEY) and node.label == "Normal":
+                node.image = images[values.NORMAL_MAP]
     mesh.materials.append(material)
 
-    for name in (SUBDIVISION_MODIFIER, DISPLACE_MODIFIER):
-        _remove_modifier(obj, name)
     _set_object_adaptive(scene, obj, False)
     if method == "CYCLES_ADAPTIVE":
+        _remove_modifier(obj, DISPLACE_MODIFIER)
         set_material_displacement(material, "DISPLACEMENT")
         add_adaptive_subdivision(scene, obj)
         scene.render.engine = "CYCLES"
+    elif normal_map:
+        for name in (DISPLACE_MODIFIER, SUBDIVISION_MODIFIER):
+            _remove_modifier(obj, name)
+        set_material_displacement(material, "BUMP")
     else:
+        _remove_modifier(obj, SUBDIVISION_MODIFIER)
         set_material_displacement(material, "BUMP")
         add_displace(obj, images[values.HEIGHT_MAP], thickness)
     return obj
+
+
+def reload_maps(obj):
+    """Read the canvas's maps from disk again (after a repaint from a script); return how many images.
+
+    Raises CanvasError when the canvas's painted folder or a map is gone.
+    """
+    folder = obj.get(PAINTING_DIR_KEY)
+    if not folder:
+        raise CanvasError("Canvas {} does not remember its painted folder: build it again.".format(obj.name))
+    material = obj.active_material
+    images = {node.image for node in (material.node_tree.nodes if material and material.node_tree else ())
+              if node.bl_idname == "ShaderNodeTexImage" and node.get(OWN_NODE_KEY) and node.image is not None}
+    for image in images:
+        path = bpy.path.abspath(image.filepath)
+        if not os.path.isfile(path):
+            raise CanvasError("Painted map {} does not exist; paint again or build the canvas from another "
+                              "folder.".format(path))
+    for image in images:
+        image.reload()
+    return len(images)
 
 
 # ---------------------------------------------------------------------------
@@ -447,3 +640,5 @@ def set_relief(obj, enabled):
                 node.inputs["Scale"].default_value = thickness if enabled else 0.0
             elif node.bl_idname == "ShaderNodeBump":
                 node.inputs["Strength"].default_value = FINE_BUMP_STRENGTH if enabled else 0.0
+            elif node.bl_idname == "ShaderNodeNormalMap" and node.get(OWN_NODE_KEY):
+                node.inputs["Strength"].default_value = normal_strength(thickness) if enabled else 0.0

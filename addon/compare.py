@@ -151,10 +151,6 @@ def check_sweep(scene, canvas_obj, azimuths_deg, elevation_deg, samples):
         raise SweepError("The scene has no Paint Relief key light: add the lights first.")
     if scene.camera is None or scene.camera.get(canvas.ROLE_KEY) != "camera":
         raise SweepError("The scene has no Paint Relief camera: add the camera first.")
-    map_w, map_h = (int(v) for v in canvas_obj[canvas.MAP_SIZE_KEY])
-    if (scene.render.resolution_x, scene.render.resolution_y) != (map_w, map_h):
-        raise SweepError("The render size {} x {} px is not the canvas's map size {} x {} px: add the camera again."
-                         .format(scene.render.resolution_x, scene.render.resolution_y, map_w, map_h))
     return key
 
 
@@ -164,7 +160,8 @@ def sweep_steps(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, s
     azimuths_deg: the painter's convention; elevation_deg above the canvas.
     Writes ``renders_dir/relief_AAA.exr`` and ``flat_AAA.exr``. Only the key
     light shines (other lights are hidden from the render meanwhile); the key
-    keeps the brightness it gives a flat canvas. Closing the generator early
+    keeps the brightness it gives a flat canvas. The render size is the
+    canvas's map size during the sweep. Closing the generator early
     (cancel) or an error restores the scene just the same. Raises SweepError.
     """
     scene = context.scene
@@ -178,6 +175,11 @@ def sweep_steps(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, s
     total = 2 * len(azimuths)
     previous = configure_render(scene, samples)
     previous.append((scene.render, "filepath", scene.render.filepath))
+    # Render size = map size for the sweep only: the scene's own size comes back afterwards.
+    map_w, map_h = (int(v) for v in canvas_obj[canvas.MAP_SIZE_KEY])
+    previous += [(scene.render, "resolution_x", scene.render.resolution_x),
+                 (scene.render, "resolution_y", scene.render.resolution_y)]
+    scene.render.resolution_x, scene.render.resolution_y = map_w, map_h
     previous += [(key, "rotation_mode", key.rotation_mode), (key, "rotation_quaternion", key.rotation_quaternion.copy()),
                  (key, "rotation_euler", key.rotation_euler.copy()), (key, "location", key.location.copy()),
                  (key.data, "energy", key.data.energy)]

@@ -1,5 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Lights for the canvas: a raking key Sun, an optional soft fill Sun and a dim world.
+"""Lights for the canvas: a raking key Sun, an optional soft fill Sun, and a dim world when the scene has none.
+
+The lights are new objects in the active collection (found again by their
+role, so adding lights again updates them). A world is made only for a
+scene without one: a world the user set up is never replaced.
 
 Angles follow :func:`values.light_direction`, the painter's convention:
 azimuth in the canvas plane from the painting's right edge towards its bottom
@@ -13,7 +17,7 @@ import bpy
 from mathutils import Vector
 
 from . import values
-from .canvas import ROLE_KEY, find_role
+from .canvas import ROLE_KEY, find_role, link_new_object
 
 KEY_NAME = "Paint Relief Key"
 FILL_NAME = "Paint Relief Fill"
@@ -30,15 +34,15 @@ WORLD_COLOUR = (0.05, 0.05, 0.05)
 MIN_SINE = 0.05
 
 
-def _sun(scene, role, name):
-    """The scene's Sun with ``role``, created (and linked) when missing."""
-    obj = find_role(scene, role)
+def _sun(context, role, name):
+    """The scene's Sun with ``role``, created (and linked into the active collection) when missing."""
+    obj = find_role(context.scene, role)
     if obj is None or obj.type != "LIGHT" or obj.data.type != "SUN":
         if obj is not None:
             bpy.data.objects.remove(obj)
         obj = bpy.data.objects.new(name, bpy.data.lights.new(name, "SUN"))
         obj[ROLE_KEY] = role
-        scene.collection.objects.link(obj)
+        link_new_object(context, obj)
     return obj
 
 
@@ -60,21 +64,18 @@ def sun_strength(brightness, elevation):
 
 
 def add_lights(context, azimuth, elevation, brightness, fill):
-    """Create or update the key (and fill) lights and the world; return (key, fill or None)."""
+    """Create or update the key (and fill) lights, and a world if the scene has none; return (key, fill or None).
+
+    azimuth, elevation: radians (the painter's convention); brightness: the
+    key's brightness on white paint of a flat canvas; fill: add (True) or
+    remove (False) the fill light.
+    """
     scene = context.scene
-    canvas = find_role(scene, "canvas")
-    distance = max(canvas.dimensions[:2]) if canvas is not None else 1.0
-
-    key = _sun(scene, "key_light", KEY_NAME)
-    aim_sun(key, azimuth, elevation, distance)
-    key.data.energy = sun_strength(brightness, elevation)
+    key = _sun(context, "key_light", KEY_NAME)
     key.data.angle = KEY_ANGLE
-
     fill_obj = find_role(scene, "fill_light")
     if fill:
-        fill_obj = _sun(scene, "fill_light", FILL_NAME)
-        aim_sun(fill_obj, azimuth + math.pi, FILL_ELEVATION, distance)
-        fill_obj.data.energy = FILL_FRACTION * sun_strength(brightness, FILL_ELEVATION)
+        fill_obj = _sun(context, "fill_light", FILL_NAME)
         fill_obj.data.angle = FILL_ANGLE
     elif fill_obj is not None:
         light = fill_obj.data
@@ -82,14 +83,30 @@ def add_lights(context, azimuth, elevation, brightness, fill):
         if light.users == 0:
             bpy.data.lights.remove(light)
         fill_obj = None
+    aim_lights(scene, azimuth, elevation, brightness)
 
-    set_world(scene)
+    if scene.world is None:
+        set_world(scene)
     return key, fill_obj
 
 
+def aim_lights(scene, azimuth, elevation, brightness):
+    """Turn the scene's key (and fill, if any) light to ``azimuth``/``elevation`` radians at ``brightness``."""
+    canvas = find_role(scene, "canvas")
+    distance = max(canvas.dimensions[:2]) if canvas is not None else 1.0
+    key = find_role(scene, "key_light")
+    if key is not None and key.type == "LIGHT":
+        aim_sun(key, azimuth, elevation, distance)
+        key.data.energy = sun_strength(brightness, elevation)
+    fill = find_role(scene, "fill_light")
+    if fill is not None and fill.type == "LIGHT":
+        aim_sun(fill, azimuth + math.pi, FILL_ELEVATION, distance)
+        fill.data.energy = FILL_FRACTION * sun_strength(brightness, FILL_ELEVATION)
+
+
 def set_world(scene):
-    """Give the scene a dim uniform world (created once, then reused)."""
-    world = bpy.data.worlds.get(WORLD_NAME) or bpy.data.worlds.new(WORLD_NAME)
+    """Give the scene a new dim uniform world; return it."""
+    world = bpy.data.worlds.new(WORLD_NAME)
     if world.node_tree is None:  # Blender 4.2 creates the tree only with use_nodes
         world.use_nodes = True
     background = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)

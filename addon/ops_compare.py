@@ -22,7 +22,7 @@ import os
 import bpy
 from bpy.types import Operator
 
-from . import camera, canvas, compare, lighting, properties, values
+from . import camera, canvas, compare, dependencies, lighting, properties, values
 
 # Seconds between the modal operator's steps (one render per step).
 TIMER_INTERVAL = 0.05
@@ -59,8 +59,12 @@ def _writable(folder):
 def prepare(context):
     """Check the scene and settings, frame the camera and make sure a key light exists; return a _Job.
 
-    Raises ValueError or compare.SweepError with one sentence.
+    Raises ValueError or compare.SweepError with one sentence. The painter's
+    libraries are checked first, so nothing is rendered when one is missing.
     """
+    missing = dependencies.problem()
+    if missing is not None:
+        raise ValueError(missing)
     scene = context.scene
     settings = scene.paint_relief
     canvas_obj = canvas.find_role(scene, "canvas")
@@ -74,7 +78,7 @@ def prepare(context):
         if not os.path.isfile(path):
             raise ValueError("Painted map {} does not exist; the comparison needs the folder the canvas was "
                              "built from.".format(path))
-    out_dir = properties.comparison_dir(context)
+    out_dir = properties.comparison_dir(context, painting_dir)
     _writable(out_dir)
     azimuths = values.sweep_azimuths(settings.compare_azimuths)
     values.check_render_names(azimuths)

@@ -15,7 +15,7 @@ import threading
 import bpy
 from bpy.types import Operator
 
-from . import properties, values
+from . import dependencies, jobs, properties, values
 
 # Seconds between the modal operator's progress updates.
 TIMER_INTERVAL = 0.1
@@ -44,24 +44,59 @@ def params_from_settings(settings):
         seed=int(settings.seed),
         brush=brush,
         height_mode=settings.height_mode.lower(),
+        method=settings.method.lower(),
+        style=settings.style.lower(),
     )
 
 
+def source_path(settings):
+    """Absolute path of the picture to paint (the file, or the chosen .blend image's file); ValueError otherwise."""
+    if settings.source == "BLEND_IMAGE":
+        image = settings.image
+        if image is None:
+            raise ValueError("Choose an image of this .blend file to paint.")
+        path = os.path.normpath(bpy.path.abspath(image.filepath, library=image.library))
+        if image.packed_file is not None and not os.path.isfile(path) or not image.filepath:
+            raise ValueError("Image {} has no file on disk (it is packed or generated): unpack or save it "
+                             "first.".format(image.name))
+    else:
+        path = os.path.normpath(bpy.path.abspath(settings.image_path))
+    if not os.path.isfile(path):
+        raise ValueError("Photograph {} does not exist.".format(path))
+    return path
+
+
+def mask_path(settings):
+    """Absolute path of the importance mask, or None; ValueError when it is set but missing."""
+    if not settings.mask_path:
+        return None
+    path = os.path.normpath(bpy.path.abspath(settings.mask_path))
+    if not os.path.isfile(path):
+        raise ValueError("Importance mask {} does not exist.".format(path))
+    return path
+
+
 def _prepare(operator, context):
-    """Check the inputs; return (image_path, output_dir, params) or None after reporting the problem."""
+    """Check the inputs; return (image_path, output_dir, params, mask) or None after reporting the problem."""
+    missing = dependencies.problem()
+    if missing is not None:
+        operator.report({"ERROR"}, missing)
+        return None
     from .. import core
 
     settings = context.scene.paint_relief
-    image_path = os.path.normpath(bpy.path.abspath(settings.image_path))
-    if not os.path.isfile(image_path):
-        operator.report({"ERROR"}, "Photograph {} does not exist.".format(image_path))
+    if jobs.is_running(context.scene):
+        operator.report({"ERROR"}, "A painting is already running in scene {}: wait for it to finish or press Esc "
+                                   "to cancel it.".format(context.scene.name))
         return None
     try:
+        image_path = source_path(settings)
+        mask = mask_path(settings)
         params = params_from_settings(settings).validate()
     except (ValueError, core.PaintReliefError) as error:
         operator.report({"ERROR"}, str(error))
         return None
-    return image_path, properties.output_dir(context), params
+    return image_path, properties.output_dir(context), params, mask
 
 
 def _finish(operator, context, report):
@@ -81,7 +116,9 @@ class PAINT_RELIEF_OT_paint(Operator):
     @classmethod
     def poll(cls, context):
         settings = getattr(context.scene, "paint_relief", None)
-        return settings is not None and bool(settings.image_path)
+        if settings is None:
+            return False
+        return bool(settings.image if settings.source == "BLEND_IMAGE" else settings.image_path)
 
     def execute(self, context):
         from .. import core
@@ -89,15 +126,18 @@ class PAINT_RELIEF_OT_paint(Operator):
         prepared = _prepare(self, context)
         if prepared is None:
             return {"CANCELLED"}
-        image_path, out_dir, params = prepared
+        image_path, out_dir, params, mask = prepared
+        jobs.begin(context.scene)
         try:
-            report = core.paint_file(image_path, out_dir, params)
+            report = core.paint_file(image_path, out_dir, params, mask_path=mask)
         except core.PaintReliefError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
         except Exception as error:  # an unexpected failure still reaches the user as one line
             self.report({"ERROR"}, "Painting {} failed: {}".format(image_path, error))
             return {"CANCELLED"}
+        finally:
+            jobs.end(context.scene)
         _finish(self, context, report)
         return {"FINISHED"}
 
@@ -107,12 +147,14 @@ class PAINT_RELIEF_OT_paint(Operator):
         prepared = _prepare(self, context)
         if prepared is None:
             return {"CANCELLED"}
-        image_path, out_dir, params = prepared
+        image_path, out_dir, params, mask = prepared
+        jobs.begin(context.scene)
+        self._scene = context.scene
 
         self._cancel = threading.Event()
         self._state = {"fraction": 0.0, "message": "Starting", "report": None, "error": None}
         self._thread = threading.Thread(
-            target=self._work, args=(image_path, out_dir, params), name="paint_relief", daemon=True)
+            target=self._work, args=(image_path, out_dir, params, mask), name="paint_relief", daemon=True)
         wm = context.window_manager
         self._timer = wm.event_timer_add(TIMER_INTERVAL, window=context.window)
         wm.progress_begin(0, 100)
@@ -120,7 +162,7 @@ class PAINT_RELIEF_OT_paint(Operator):
         self._thread.start()
         return {"RUNNING_MODAL"}
 
-    def _work(self, image_path, out_dir, params):
+    def _work(self, image_path, out_dir, params, mask):
         """Worker thread: the painter only; never touches bpy data."""
         from .. import core
 
@@ -131,7 +173,8 @@ class PAINT_RELIEF_OT_paint(Operator):
 
         try:
             state["report"] = core.paint_file(image_path, out_dir, params,
-                                              progress=progress, cancel=self._cancel.is_set)
+                                              progress=progress, cancel=self._cancel.is_set,
+                                              mask_path=mask)
         except core.PaintReliefError as error:
             state["error"] = str(error)
         except Exception as error:
@@ -168,6 +211,7 @@ class PAINT_RELIEF_OT_paint(Operator):
         self._end(context)
 
     def _end(self, context):
+        jobs.end(self._scene)
         wm = context.window_manager
         wm.event_timer_remove(self._timer)
         wm.progress_end()

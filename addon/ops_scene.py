@@ -1,13 +1,15 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Operators that stage the painting in the scene: canvas, lights, camera.
 
-Each finds the objects it made before (by their role property) and updates
-them, so running an operator again never adds a second canvas, light or
-camera. Problems are reported in one sentence and the operator returns
+Build Canvas makes a new canvas for a painting no canvas of the scene shows
+yet, and rebuilds in place the canvas that shows it otherwise; lights and
+camera are found again by their role property and updated, so running those
+again never adds a second light or camera. Problems are reported in one sentence and the operator returns
 {'CANCELLED'} with the scene unchanged.
 """
 
 import bpy
+from bpy.props import StringProperty
 from bpy.types import Operator
 
 from . import canvas, camera, lighting
@@ -75,10 +77,79 @@ class PAINT_RELIEF_OT_add_camera(Operator):
         if canvas.MAP_SIZE_KEY not in target:
             self.report({"ERROR"}, "Canvas {} has no map size: build the canvas again.".format(target.name))
             return {"CANCELLED"}
-        camera.frame_canvas(context, target)
+        settings = context.scene.paint_relief
+        camera.frame_canvas(context, target, match_resolution=settings.camera_match_resolution,
+                            standard_view=settings.camera_standard_view)
         return {"FINISHED"}
 
 
-classes = (PAINT_RELIEF_OT_build_canvas, PAINT_RELIEF_OT_add_lights, PAINT_RELIEF_OT_add_camera)
+class PAINT_RELIEF_OT_reload_maps(Operator):
+    """Read the active canvas's painted maps from disk again (after repainting its folder)"""
 
-register, unregister = bpy.utils.register_classes_factory(classes)
+    bl_idname = "paint_relief.reload_maps"
+    bl_label = "Reload Maps"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return canvas.find_role(context.scene, "canvas") is not None
+
+    def execute(self, context):
+        target = canvas.find_role(context.scene, "canvas")
+        try:
+            count = canvas.reload_maps(target)
+        except canvas.CanvasError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        self.report({"INFO"}, "Reloaded {} maps of {}".format(count, target.name))
+        return {"FINISHED"}
+
+
+class PAINT_RELIEF_OT_add_canvas(Operator):
+    """Add a Paint Relief canvas from a painted folder (color.exr, height.exr, opacity.exr)"""
+
+    bl_idname = "paint_relief.add_canvas"
+    bl_label = "Paint Relief Canvas"
+    bl_options = {"REGISTER", "UNDO"}
+
+    directory: StringProperty(name="Painted Folder", subtype="DIR_PATH")
+
+    @classmethod
+    def poll(cls, context):
+        return getattr(context.scene, "paint_relief", None) is not None
+
+    def execute(self, context):
+        settings = context.scene.paint_relief
+        if self.directory:
+            settings.painting_dir = self.directory
+        if not settings.painting_dir:
+            self.report({"ERROR"}, "Choose a painted folder (one with color.exr, height.exr and opacity.exr).")
+            return {"CANCELLED"}
+        return bpy.ops.paint_relief.build_canvas()
+
+    def invoke(self, context, event):
+        if context.scene.paint_relief.painting_dir:
+            return self.execute(context)
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+
+def menu_add_canvas(self, context):
+    """Add → Paint Relief Canvas in the 3D Viewport's Add menu."""
+    self.layout.operator(PAINT_RELIEF_OT_add_canvas.bl_idname, icon="IMAGE_PLANE")
+
+
+classes = (PAINT_RELIEF_OT_build_canvas, PAINT_RELIEF_OT_add_lights, PAINT_RELIEF_OT_add_camera,
+           PAINT_RELIEF_OT_reload_maps, PAINT_RELIEF_OT_add_canvas)
+
+_register, _unregister = bpy.utils.register_classes_factory(classes)
+
+
+def register():
+    _register()
+    bpy.types.VIEW3D_MT_add.append(menu_add_canvas)
+
+
+def unregister():
+    bpy.types.VIEW3D_MT_add.remove(menu_add_canvas)
+    _unregister()

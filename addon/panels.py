@@ -11,7 +11,8 @@ import os
 import bpy
 from bpy.types import Panel
 
-from . import properties
+from . import properties, values
+from .presets import PAINT_RELIEF_MT_paint_presets
 
 
 class _PaintReliefPanel:
@@ -49,13 +50,26 @@ class VIEW3D_PT_paint_relief_paint(_PaintReliefPanel, Panel):
     def draw(self, context):
         layout = self._layout()
         settings = context.scene.paint_relief
-        layout.prop(settings, "image_path")
+        row = layout.row(align=True)
+        row.menu("PAINT_RELIEF_MT_paint_presets", text=PAINT_RELIEF_MT_paint_presets.bl_label)
+        row.operator("paint_relief.paint_preset_add", text="", icon="ADD")
+        row.operator("paint_relief.paint_preset_add", text="", icon="REMOVE").remove_active = True
+        layout.prop(settings, "source", expand=True)
+        if settings.source == "BLEND_IMAGE":
+            layout.prop(settings, "image")
+        else:
+            layout.prop(settings, "image_path")
         layout.prop(settings, "output_dir")
         if not settings.output_dir:
             row = layout.row()
             row.alignment = "RIGHT"
-            row.label(text=properties.default_output_dir(context, create=False), icon="INFO")
+            row.label(text=os.path.join(properties.paintings_parent(context),
+                                        values.folder_stem(properties.image_name(settings)) + "_NNN"), icon="INFO")
         col = layout.column()
+        col.prop(settings, "method")
+        if settings.method == "HERTZMANN98":
+            col.prop(settings, "style")
+        col.prop(settings, "mask_path")
         col.prop(settings, "detail")
         col.prop(settings, "stroke_sizes")
         col.prop(settings, "layers")
@@ -80,7 +94,12 @@ class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
         layout.prop(settings, "canvas_width_cm")
         layout.prop(settings, "thickness_mm")
         layout.prop(settings, "displacement_method")
-        layout.operator("paint_relief.build_canvas", icon="MESH_PLANE")
+        row = layout.row(align=True)
+        row.operator("paint_relief.build_canvas", icon="MESH_PLANE")
+        row.operator("paint_relief.reload_maps", icon="FILE_REFRESH")
+        col = layout.column(heading="Add Camera Sets")
+        col.prop(settings, "camera_match_resolution")
+        col.prop(settings, "camera_standard_view")
         layout.operator("paint_relief.add_camera", icon="OUTLINER_OB_CAMERA")
 
 
@@ -114,12 +133,10 @@ class VIEW3D_PT_paint_relief_compare(_PaintReliefPanel, Panel):
         layout.prop(settings, "compare_samples")
         layout.prop(settings, "light_elevation")
         layout.prop(settings, "compare_output_dir")
-        if not settings.compare_output_dir:
+        if not settings.compare_output_dir and settings.painting_dir:
             row = layout.row()
             row.alignment = "RIGHT"
-            base = bpy.path.abspath(settings.output_dir) if settings.output_dir else \
-                properties.default_output_dir(context, create=False)
-            row.label(text=os.path.join(base, "comparison"), icon="INFO")
+            row.label(text=os.path.join(bpy.path.abspath(settings.painting_dir), "comparison"), icon="INFO")
         layout.operator("paint_relief.render_comparison", icon="RENDER_STILL")
 
 

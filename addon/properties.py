@@ -26,51 +26,85 @@ _PATH_OPTIONS = (
 )
 
 
-def default_output_dir(context, *, create=True):
-    """Return the folder outputs go to when ``output_dir`` is left empty.
+def paintings_parent(context):
+    """The absolute folder that holds one folder per painting when ``output_dir`` is left empty.
 
-    ``//paint_relief/`` (beside the .blend file) once the file is saved,
-    otherwise the extension's own user folder ``.../.user/<repo>/paint_relief/output``
-    (created if missing and ``create`` is true; the UI passes ``create=False``).
-    The result may be blend-relative: pass it through ``bpy.path.abspath``
-    before using it on disk, or use :func:`output_dir`.
+    ``paint_relief/`` beside the saved .blend file, else the add-on
+    preferences' default output folder (``~/Paint Relief`` when that is empty).
+    Never the extension's own user folder, which uninstalling deletes.
     """
     if context.blend_data.filepath:
-        return BLEND_RELATIVE_OUTPUT_DIR
-    try:
-        return bpy.utils.extension_path_user(EXTENSION_PACKAGE, path="output", create=create)
-    except ValueError:
-        # Not installed as an extension (e.g. the ``addon`` package imported
-        # directly in a test): fall back to Blender's temporary folder.
-        return os.path.join(bpy.app.tempdir or bpy.utils.user_resource("DATAFILES"), "paint_relief")
+        return os.path.normpath(bpy.path.abspath(BLEND_RELATIVE_OUTPUT_DIR))
+    from .preferences import default_parent
+
+    return default_parent(context)
 
 
 def output_dir(context):
-    """Return the absolute output folder for the scene's settings.
+    """Return the absolute folder the next painting goes into.
 
-    The user's ``output_dir`` when set, else :func:`default_output_dir`;
-    blend-relative paths ("//...") are made absolute.
+    The user's ``output_dir`` when set (the painting replaces what is there);
+    else a new folder ``<image name>_<counter>`` inside :func:`paintings_parent`,
+    so every painting keeps its own files.
     """
     settings = context.scene.paint_relief
-    path = settings.output_dir or default_output_dir(context)
-    return os.path.normpath(bpy.path.abspath(path))
+    if settings.output_dir:
+        return os.path.normpath(bpy.path.abspath(settings.output_dir))
+    return values.next_painting_folder(paintings_parent(context), image_name(settings))
 
 
-def comparison_dir(context):
+def image_name(settings):
+    """The name the painting's folder is made from: the chosen .blend image's name, else the photograph's file."""
+    if settings.source == "BLEND_IMAGE" and settings.image is not None:
+        return settings.image.name
+    return settings.image_path
+
+
+def comparison_dir(context, painting_dir):
     """Return the absolute folder the lighting comparison writes into.
 
     The user's ``compare_output_dir`` when set, else ``comparison`` inside
-    :func:`output_dir`; blend-relative paths are made absolute.
+    the painted folder the canvas shows; blend-relative paths are made absolute.
     """
     settings = context.scene.paint_relief
     if settings.compare_output_dir:
         return os.path.normpath(bpy.path.abspath(settings.compare_output_dir))
-    return os.path.join(output_dir(context), "comparison")
+    return os.path.join(painting_dir, "comparison")
+
+
+def _update_relief(self, context):
+    """Live update: the scene's canvases take the new paint thickness at once (no rebuild)."""
+    from . import canvas
+
+    for obj in canvas.canvases(context.scene):
+        canvas.set_thickness(obj, self.thickness_mm / 1000.0)
+
+
+def _update_lights(self, context):
+    """Live update: the key and fill lights follow the azimuth and elevation at once (when they exist)."""
+    from . import canvas, lighting
+
+    if canvas.find_role(context.scene, "key_light") is not None:
+        lighting.aim_lights(context.scene, self.light_azimuth, self.light_elevation, self.light_strength)
 
 
 class PaintReliefSettings(PropertyGroup):
     """Per-scene settings of Paint Relief."""
 
+    source: EnumProperty(
+        name="Source",
+        description="Where the picture to paint comes from",
+        items=(
+            ("FILE", "File", "An image file on disk"),
+            ("BLEND_IMAGE", "Image", "An image of this .blend file (loaded from a file on disk)"),
+        ),
+        default="FILE",
+    )
+    image: PointerProperty(
+        name="Image",
+        description="Image of this .blend file to paint; it must have a file on disk",
+        type=bpy.types.Image,
+    )
     image_path: StringProperty(
         name="Photograph",
         description="Image file to paint (PNG, JPEG, TIFF, EXR and other formats OpenImageIO reads)",
@@ -80,15 +114,43 @@ class PaintReliefSettings(PropertyGroup):
     output_dir: StringProperty(
         name="Output Folder",
         description=(
-            "Folder for the painted colour, height and opacity maps and the stroke list. "
-            "Leave empty to use a 'paint_relief' folder beside the saved .blend file, "
-            "or the extension's user folder when the file is not saved yet"
+            "Folder for the painted colour, height and opacity maps and the stroke list (a new painting replaces "
+            "what is there). Leave empty to give every painting a new folder named after its image, in a "
+            "'paint_relief' folder beside the saved .blend file, or in the add-on preferences' default output "
+            "folder while the file is not saved"
         ),
         subtype="DIR_PATH",
         options=_PATH_OPTIONS,
     )
 
     # --- painter parameters (defaults equal core.Params's) ---
+    method: EnumProperty(
+        name="Method",
+        description="The painting algorithm",
+        items=(
+            ("HUANG11", "Huang 2011", "Content-dependent strokes after Huang, Fu and Li (2011): large strokes in "
+             "smooth areas, small ones where detail is"),
+            ("HERTZMANN98", "Hertzmann 1998", "Hertzmann's layered curved brush strokes in one of his styles"),
+        ),
+        default="HUANG11",
+    )
+    style: EnumProperty(
+        name="Style",
+        description="Hertzmann 1998 style (used by the Hertzmann 1998 method)",
+        items=(
+            ("IMPRESSIONIST", "Impressionist", "Medium strokes following the image's edges"),
+            ("EXPRESSIONIST", "Expressionist", "Long, loose strokes"),
+            ("COLORIST_WASH", "Colorist Wash", "Thin, transparent washes of colour"),
+            ("POINTILLIST", "Pointillist", "Dense dabs of pure colour"),
+        ),
+        default="IMPRESSIONIST",
+    )
+    mask_path: StringProperty(
+        name="Importance Mask",
+        description="Optional grayscale image of the photograph's size: white areas get smaller, more detailed strokes",
+        subtype="FILE_PATH",
+        options=_PATH_OPTIONS,
+    )
     detail: FloatProperty(
         name="Detail",
         description="How finely detailed areas of the photograph are split into small strokes (0 coarse, 1 fine)",
@@ -160,6 +222,7 @@ class PaintReliefSettings(PropertyGroup):
         name="Paint Thickness",
         description="Physical height in millimetres of paint of height 1 (one full bristle's contact)",
         default=2.0, min=0.0, soft_max=20.0, precision=2,
+        update=_update_relief,
     )
     displacement_method: EnumProperty(
         name="Displacement",
@@ -169,6 +232,8 @@ class PaintReliefSettings(PropertyGroup):
              "Cycles adaptive subdivision with material displacement: finest relief, Cycles renders only"),
             ("MESH", "Mesh",
              "A finely subdivided mesh with a Displace modifier: works in Cycles, EEVEE and Workbench"),
+            ("NORMAL_MAP", "Normal Map",
+             "A flat plane shaded with the painting's normal map: no displacement, for EEVEE and game export"),
         ),
         default="MESH",
     )
@@ -181,16 +246,32 @@ class PaintReliefSettings(PropertyGroup):
             "painting's right edge, 90 its bottom edge, 180 the left, 270 the top"
         ),
         default=math.radians(225.0), min=-2.0 * math.pi, max=2.0 * math.pi, subtype="ANGLE",
+        update=_update_lights,
     )
     light_elevation: FloatProperty(
         name="Elevation",
         description="Angle of the key light above the canvas plane: low angles rake across the paint and show its relief",
         default=math.radians(30.0), min=math.radians(1.0), max=math.radians(90.0), subtype="ANGLE",
+        update=_update_lights,
     )
     light_strength: FloatProperty(
         name="Brightness",
         description="Brightness of the key light on a flat canvas: 1 makes white paint render white",
         default=0.8, min=0.0, soft_max=5.0,
+        update=_update_lights,
+    )
+    camera_match_resolution: BoolProperty(
+        name="Match Render Size",
+        description="Add Camera also sets the render size to the painting's map size (one map pixel per render pixel)",
+        default=False,
+    )
+    camera_standard_view: BoolProperty(
+        name="Standard View",
+        description=(
+            "Add Camera also sets colour management to 'Standard' (no look, exposure 0) so renders compare pixel by "
+            "pixel with the painting; off keeps the scene's view transform (AgX, Filmic, ...)"
+        ),
+        default=False,
     )
     fill_light: BoolProperty(
         name="Fill Light",

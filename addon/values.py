@@ -15,6 +15,8 @@ OPACITY_MAP = "opacity.exr"
 CANVAS_MAPS = (COLOR_MAP, HEIGHT_MAP, OPACITY_MAP)
 # Largest stroke size in pixels at 1 megapixel (core.params.MAX_STROKE_SIZE).
 MAX_STROKE_SIZE = 1024
+# Tangent-space normals, n * 0.5 + 0.5 (the Normal Map canvas).
+NORMAL_MAP = "normal.exr"
 
 
 def parse_sizes(text):
@@ -149,3 +151,36 @@ def relief_pixels(thickness_mm, width_cm, map_width):
     """
     pixel_mm = 10.0 * width_cm / map_width
     return thickness_mm / pixel_mm
+
+
+# --- where paintings go --------------------------------------------------------
+
+def folder_stem(image_path):
+    """A folder-name-safe stem of an image file name: ``"My photo (1).JPG"`` -> ``"My_photo_1"``.
+
+    Letters, digits, '-' and '_' are kept, runs of anything else become one
+    '_'; an empty result becomes ``"painting"``.
+    """
+    import os
+    import re
+
+    stem = os.path.splitext(os.path.basename(str(image_path).rstrip("/\\")))[0]
+    stem = re.sub(r"[^0-9A-Za-z_-]+", "_", stem).strip("_")
+    return stem or "painting"
+
+
+def next_painting_folder(parent, image_path, digits=3):
+    """The first ``parent/<stem>_<counter>`` (counter from 1, ``digits`` wide) that does not exist yet.
+
+    Each painting gets a folder of its own, so a new painting never
+    overwrites an earlier one. Nothing is created here.
+    """
+    import os
+
+    stem = folder_stem(image_path)
+    counter = 1
+    while True:
+        folder = os.path.join(parent, "{}_{:0{}d}".format(stem, counter, digits))
+        if not os.path.exists(folder):
+            return folder
+        counter += 1

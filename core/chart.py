@@ -1,11 +1,12 @@
-"""Small line charts drawn with NumPy (anti-aliased lines, OpenImageIO text)."""
+"""Small line charts drawn with NumPy (anti-aliased lines, text from the painter's bitmap font)."""
 
 from __future__ import annotations
 
 from typing import Sequence, Tuple
 
 import numpy as np
-import OpenImageIO as oiio
+
+from . import text as _text
 
 Colour = Tuple[float, float, float]
 SERIES_COLOURS: Tuple[Colour, ...] = ((0.84, 0.15, 0.16), (0.12, 0.47, 0.71), (0.17, 0.63, 0.17), (0.58, 0.40, 0.74))
@@ -29,12 +30,8 @@ def draw_segment(image: np.ndarray, p0, p1, width: float, colour: Colour) -> Non
 
 
 def draw_text(image: np.ndarray, x: int, y: int, text: str, size: int, colour: Colour = (0, 0, 0)) -> None:
-    """Write ``text`` with its baseline at (x, y) px into (H, W, 3) float ``image``."""
-    h, w = image.shape[:2]
-    buf = oiio.ImageBuf(oiio.ImageSpec(w, h, 3, oiio.FLOAT))
-    buf.set_pixels(oiio.ROI(0, w, 0, h), np.ascontiguousarray(image, dtype=np.float32))
-    oiio.ImageBufAlgo.render_text(buf, int(x), int(y), text, int(size), "DroidSans", tuple(colour))
-    image[...] = np.asarray(buf.get_pixels(oiio.FLOAT)).reshape(h, w, 3)
+    """Write ``text`` ``size`` px per em with its baseline at (x, y) px into (H, W, 3) float ``image``."""
+    _text.draw_text(image, int(x), int(y), text, int(size), tuple(colour))
 
 
 def line_chart(series: Sequence[Tuple[str, Sequence[float], Sequence[float]]], x_range, y_range, x_ticks,

@@ -101,7 +101,7 @@ def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, boo
         try:
             spec = inp.spec()
             _check_spec(path, spec, max_megapixels)
-            data = _read_first_image(path, inp, spec)
+            data = upright(_read_first_image(path, inp, spec), spec.get_int_attribute("Orientation", 1))
             linear = _is_linear(path, inp.format_name(), spec)
             associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
         finally:
@@ -112,6 +112,28 @@ def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, boo
     if has_alpha and associated:
         data = _unpremultiply(data)
     return data, has_alpha, linear
+
+
+def upright(data: np.ndarray, orientation: int) -> np.ndarray:
+    """(H, W, C) pixels as stored -> as meant to be seen, by the EXIF/TIFF ``Orientation`` tag (1-8).
+
+    1 is upright; 2 mirrored left-right; 3 turned 180 degrees; 4 mirrored
+    top-bottom; 5 transposed; 6 shown turned 90 degrees clockwise; 7
+    transverse; 8 shown turned 90 degrees counter-clockwise. Other values
+    are taken as 1. Cameras store sideways photographs with 6 or 8.
+    """
+    ops = {
+        2: lambda a: a[:, ::-1],
+        3: lambda a: a[::-1, ::-1],
+        4: lambda a: a[::-1, :],
+        5: lambda a: a.transpose(1, 0, 2),
+        6: lambda a: np.rot90(a, -1),
+        7: lambda a: a[::-1, ::-1].transpose(1, 0, 2),
+        8: lambda a: np.rot90(a, 1),
+    }
+    if orientation not in ops:
+        return data
+    return np.ascontiguousarray(ops[orientation](data))
 
 
 def _check_spec(path: pathlib.Path, spec, max_megapixels: float) -> None:

@@ -6,8 +6,9 @@ import math
 from typing import Sequence, Tuple
 
 import numpy as np
-import OpenImageIO as oiio
 from scipy import ndimage
+
+from .text import draw_text
 
 BACKGROUND = (0.12, 0.12, 0.12)
 LABEL_COLOUR = (0.95, 0.95, 0.95)
@@ -27,12 +28,11 @@ def fit_height(image: np.ndarray, height: int) -> np.ndarray:
 
 
 def label_strip(text: str, width: int, height: int) -> np.ndarray:
-    """(height, width, 3) strip with ``text`` written in it (OpenImageIO's bundled font)."""
-    buf = oiio.ImageBuf(oiio.ImageSpec(width, height, 3, oiio.FLOAT))
-    oiio.ImageBufAlgo.fill(buf, BACKGROUND)
+    """float32 (height, width, 3) strip with ``text`` written in it (the painter's bitmap font, core/text.py)."""
+    strip = np.empty((height, width, 3), np.float32)
+    strip[...] = BACKGROUND
     size = max(8, int(height * 0.62))
-    oiio.ImageBufAlgo.render_text(buf, 6, int(height * 0.75), text, size, "DroidSans", LABEL_COLOUR)
-    return np.asarray(buf.get_pixels(oiio.FLOAT), dtype=np.float32).reshape(height, width, 3)
+    return draw_text(strip, 6, int(height * 0.75), text, size, LABEL_COLOUR)
 
 
 def contact_sheet(panels: Sequence[Tuple[str, np.ndarray]], panel_height: int = 256, columns: int = 4,

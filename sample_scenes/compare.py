@@ -1,382 +1,40 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The lighting comparison from the command line: paint, stage, render a light sweep, compare.
-
-Runs under Blender or with the ``bpy`` module (one argument parser; under
-Blender the arguments follow ``--``)::
+"""Launch the lighting comparison from a checkout (addon/compare_command.py has the whole run and its options).
 
     blender -b --python-exit-code 1 --python sample_scenes/compare.py -- INPUT -o OUTDIR [options]
     .venv/bin/python sample_scenes/compare.py INPUT -o OUTDIR [options]
 
-Steps, each printed with its time:
-
-1. load the extension: when ``bpy.ops.paint_relief`` is missing (the
-   extension is not installed and enabled), the repository root is loaded as
-   the package ``paint_relief`` and registered;
-2. paint: INPUT scaled so its longer side is at most ``--size`` px (never
-   enlarged; a 16-bit PNG ``OUTDIR/input.png``) is painted with
-   ``core.paint_file`` into ``OUTDIR/painting`` - or the maps there are
-   reused when that folder's report.json has the same parameters and
-   ``input.png`` came out byte for byte the same;
-3. scene: an empty scene; the extension's operators build the canvas (the
-   chosen displacement method and paint thickness, 40 cm wide), add the key
-   light only (no fill, so the comparison has one light; brightness 1, so
-   white paint renders 1.0) and the orthographic camera; Cycles on the CPU,
-   render size = map size (100 %), 'Standard' view, float RGB OpenEXR;
-4. renders: for every azimuth, ``OUTDIR/renders/relief_AAA.exr`` and, with
-   the relief switched off, ``flat_AAA.exr`` (``addon/compare.py``);
-5. ``OUTDIR/scene.blend``;
-6. ``core.comparison.run_comparison`` writes comparison.json, comparison.md,
-   comparison.png, correlation.png and light_sweep.gif into OUTDIR.
-
-Azimuths are degrees in the image from +x (right) towards +y (down): 0 =
-light from the right, 90 = from the bottom, 180 = left, 270 = top, the same
-convention as the painter's ``light`` command and the add-on's Lighting panel.
-
-A bad input (no image, an unreadable image, an output folder that cannot be
-written, ``--azimuths 0``, ...) ends with one sentence on stderr and exit
-code 1 (2 for a malformed command line). The script calls ``sys.exit(code)``,
-which ends Blender with that code too; ``--python-exit-code 1`` makes an
-unexpected Python exception in the script end Blender with 1 as well.
+The installed extension runs the same with ``blender --command paint_relief compare INPUT -o OUTDIR``.
+When the extension is installed and enabled, its package is used; otherwise
+the repository root is loaded as the package ``paint_relief``. Exit codes:
+0 done, 1 a bad input or a failed step (one sentence on stderr), 2 a
+malformed command line.
 """
 
-import argparse
 import importlib
 import importlib.util
-import math
-import os
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = "paint_relief"
-DEFAULT_SIZE = 384
-CANVAS_WIDTH_CM = 40.0
-# Brightness of the key light on a flat canvas: white paint renders at 1.0, so the renders stay well
-# above the comparison's dark-pixel threshold.
-KEY_BRIGHTNESS = 1.0
 
 
-class Failure(Exception):
-    """The run cannot go on; the message is one sentence."""
-
-
-class Parser(argparse.ArgumentParser):
-    """argparse, but a malformed command line ends with ONE sentence (no usage block) and exit code 2."""
-
-    def error(self, message):
-        message = message.rstrip(".")
-        self.exit(2, "{}: {} (see --help).\n".format(self.prog, message[:1].upper() + message[1:]))
-
-
-def _azimuth_count(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("the light sweep's azimuth count must be a whole number, got {!r}".format(text))
-    if value < 1:
-        raise argparse.ArgumentTypeError("a light sweep needs at least 1 azimuth, got {}".format(value))
-    return value
-
-
-def _positive_int(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a whole number".format(text))
-    if value < 1:
-        raise argparse.ArgumentTypeError("{} must be at least 1".format(value))
-    return value
-
-
-def _elevation(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of degrees".format(text))
-    if not 0.0 < value <= 90.0:
-        raise argparse.ArgumentTypeError("the light elevation must be above 0 and at most 90 degrees, got {:g}".format(value))
-    return value
-
-
-def _thickness(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of millimetres".format(text))
-    if not value > 0.0:
-        raise argparse.ArgumentTypeError("the paint thickness must be above 0 mm, got {:g}".format(value))
-    return value
-
-
-def build_parser():
-    parser = Parser(
-        prog="compare.py",
-        description="Paint INPUT, render its canvas in Cycles under a sweep of raking lights with and without "
-                    "relief, and compare the renders with the painter's 2-D lighting models.",
-        epilog="Azimuths follow the painter: degrees from image +x (right) towards +y (down). "
-               "Under Blender: blender -b --python-exit-code 1 --python sample_scenes/compare.py -- INPUT -o OUTDIR.")
-    parser.add_argument("input", metavar="INPUT", help="the photograph to paint (PNG, JPEG, TIFF, EXR, ...)")
-    parser.add_argument("-o", "--output", metavar="OUTDIR", required=True,
-                        help="output folder: painting/, renders/, scene.blend and the comparison files")
-    parser.add_argument("--azimuths", type=_azimuth_count, default=8, metavar="N",
-                        help="number of light azimuths, evenly spaced from 0 degrees (default 8)")
-    parser.add_argument("--elevation", type=_elevation, default=30.0, metavar="DEG",
-                        help="light elevation above the canvas in degrees (default 30)")
-    parser.add_argument("--size", type=_positive_int, default=DEFAULT_SIZE, metavar="PX",
-                        help="the input is scaled so its longer side is at most this many pixels before painting; "
-                             "maps and renders have that size (default {})".format(DEFAULT_SIZE))
-    parser.add_argument("--samples", type=_positive_int, default=16, metavar="N",
-                        help="Cycles samples per pixel (default 16)")
-    parser.add_argument("--method", choices=("MESH", "CYCLES_ADAPTIVE"), default="MESH",
-                        help="how the relief becomes geometry (default MESH)")
-    parser.add_argument("--thickness-mm", type=_thickness, default=2.0, metavar="MM",
-                        help="height in millimetres of paint of height 1 (default 2)")
-    parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
-    parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
-    return parser
-
-
-def script_arguments(argv):
-    """The script's own arguments: those after "--" when there is one (Blender), else argv[1:]."""
-    return argv[argv.index("--") + 1:] if "--" in argv else argv[1:]
-
-
-class Log:
-    """Progress lines and step times on stdout (nothing with --quiet)."""
-
-    def __init__(self, quiet):
-        self.quiet = quiet
-        self.times = []
-        self._start = None
-        self._name = None
-
-    def say(self, text):
-        if not self.quiet:
-            print(text, flush=True)
-
-    def step(self, name, text):
-        self.end()
-        self._name, self._start = name, time.perf_counter()
-        self.say("[{}] {}".format(name, text))
-
-    def end(self):
-        if self._name is not None:
-            self.times.append((self._name, time.perf_counter() - self._start))
-            self._name = None
-
-
-def load_extension():
-    """The Paint Relief package with its operators registered: the installed extension, or the repository."""
+def extension_package():
+    """The installed and enabled Paint Relief package, else the repository loaded as ``paint_relief``."""
     import bpy
 
     if hasattr(bpy.types, "PAINT_RELIEF_OT_build_canvas"):
         module = bpy.types.PAINT_RELIEF_OT_build_canvas.__module__  # "<package>.addon.ops_scene"
-        return importlib.import_module(module.rpartition(".addon.")[0]), "the installed extension"
+        return importlib.import_module(module.rpartition(".addon.")[0])
     spec = importlib.util.spec_from_file_location(PACKAGE, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
     package = importlib.util.module_from_spec(spec)
     sys.modules[PACKAGE] = package
     spec.loader.exec_module(package)
-    package.register()
-    return package, "the repository {}".format(ROOT)
-
-
-def scaled_input(core, image, out_dir, size):
-    """Write ``image`` (INPUT as read) scaled to a longer side of at most ``size`` px as OUTDIR/input.png.
-
-    Returns (path, changed): changed is False when input.png was there already with the same bytes.
-    """
-    import numpy as np
-    import OpenImageIO as oiio
-
-    from_io = importlib.import_module(core.__name__ + ".io")
-    h, w = image.shape[:2]
-    scale = min(1.0, size / max(w, h))
-    if scale < 1.0:
-        nw, nh = max(1, round(w * scale)), max(1, round(h * scale))
-        resized = oiio.ImageBufAlgo.resize(oiio.ImageBuf(np.ascontiguousarray(image)),
-                                           roi=oiio.ROI(0, nw, 0, nh, 0, 1, 0, 3))
-        image = np.clip(resized.get_pixels(oiio.FLOAT), 0.0, 1.0).astype(np.float32)
-    path = Path(out_dir) / "input.png"
-    temp = path.with_name(".input.tmp-{}.png".format(os.getpid()))
-    from_io.write_png(temp, image, bits=16)
-    changed = not (path.is_file() and path.read_bytes() == temp.read_bytes())
-    os.replace(temp, path)
-    return path, changed
-
-
-def paint(core, args, photo, params, out_dir, log):
-    """Paint (or reuse) OUTDIR/painting from ``photo`` (INPUT as read); return its folder."""
-    import json
-
-    image, changed = scaled_input(core, photo, out_dir, args.size)
-    painting_dir = out_dir / "painting"
-    report_path = painting_dir / "report.json"
-    if not changed and report_path.is_file():
-        try:
-            report = json.loads(report_path.read_text())
-        except (OSError, ValueError):
-            report = {}
-        same_input = Path(str(report.get("input", ""))).resolve() == image.resolve()
-        maps = all((painting_dir / name).is_file() for name in ("color.exr", "height.exr", "opacity.exr",
-                                                                  "orientation.exr"))
-        if same_input and maps and report.get("params") == json.loads(json.dumps(params.to_dict())):
-            log.say("    reusing the painting in {} (same input and parameters)".format(painting_dir))
-            return painting_dir
-    report = core.paint_file(str(image), str(painting_dir), params)
-    log.say("    {} strokes, {} x {} px".format(report.get("strokes", "?"), *_map_size(painting_dir, core)))
-    return painting_dir
-
-
-def _map_size(painting_dir, core):
-    data = importlib.import_module(core.__name__ + ".io").read_exr(painting_dir / "height.exr")[0]
-    return data.shape[1], data.shape[0]
-
-
-def run_operator(operator):
-    """Run a Paint Relief operator; Failure with its one-sentence report when it does not finish."""
-    try:
-        result = operator()
-    except RuntimeError as error:  # an operator's ERROR report raises in background mode
-        text = str(error).strip()
-        raise Failure(text[len("Error: "):] if text.startswith("Error: ") else text) from None
-    if "FINISHED" not in result:
-        raise Failure("The operator {} did not finish.".format(operator.idname_py()))
-
-
-def stage_scene(package, args, painting_dir, azimuths):
-    """An empty scene with the canvas, the key light and the camera, through the extension's operators."""
-    import bpy
-
-    scene = bpy.context.scene
-    for obj in list(scene.objects):  # the start-up file's cube, light and camera
-        bpy.data.objects.remove(obj)
-    settings = scene.paint_relief
-    settings.painting_dir = str(painting_dir)
-    settings.canvas_width_cm = CANVAS_WIDTH_CM
-    settings.thickness_mm = args.thickness_mm
-    settings.displacement_method = args.method
-    settings.light_azimuth = math.radians(azimuths[0])
-    settings.light_elevation = math.radians(args.elevation)
-    settings.light_strength = KEY_BRIGHTNESS
-    settings.fill_light = False
-    ops = bpy.ops.paint_relief
-    run_operator(ops.build_canvas)
-    run_operator(ops.add_lights)
-    run_operator(ops.add_camera)
-    package.addon.compare.configure_render(scene, args.samples)
-    return package.addon.canvas.find_role(scene, "canvas")
-
-
-def main(argv):
-    args = build_parser().parse_args(script_arguments(argv))
-    log = Log(args.quiet)
-    started = time.perf_counter()
-    try:
-        input_path = Path(args.input)
-        if not input_path.is_file():
-            raise Failure("The input image {} does not exist.".format(input_path)
-                          if not input_path.exists() else "The input {} is not a file.".format(input_path))
-
-        log.step("extension", "Loading the Paint Relief extension")
-        import bpy
-
-        package, where = load_extension()
-        core = importlib.import_module(package.__name__ + ".core")
-        core_io = importlib.import_module(core.__name__ + ".io")
-        importlib.import_module(package.__name__ + ".addon.compare")
-        log.say("    from {}".format(where))
-        values = package.addon.values
-        azimuths = values.sweep_azimuths(args.azimuths)
-        values.check_render_names(azimuths)
-        params = core.Params(seed=args.seed).validate()
-        photo = core_io.read_image(input_path, params.max_megapixels, params.canvas_colour)  # checked before any output
-        out_dir = Path(core_io.ensure_output_dir(args.output)).resolve()
-
-        log.step("paint", "Painting {} (longer side at most {} px) into {}".format(
-            input_path, args.size, out_dir / "painting"))
-        painting_dir = paint(core, args, photo, params, out_dir, log)
-
-        log.step("scene", "Building the canvas, the key light and the camera ({}, {:g} mm paint)".format(
-            args.method, args.thickness_mm))
-        with _quiet_stdout(args.quiet):
-            canvas_obj = stage_scene(package, args, painting_dir, azimuths)
-        compare = package.addon.compare
-
-        log.step("renders", "Rendering {} lights x (relief, flat) with Cycles, {} samples, elevation {:g} degrees"
-                 .format(len(azimuths), args.samples, args.elevation))
-        renders_dir = out_dir / "renders"
-
-        def progress(fraction, message):
-            log.say("    {:3.0f}% {}".format(100 * fraction, message))
-
-        with _quiet_stdout(args.quiet):
-            compare.render_sweep(bpy.context, canvas_obj, azimuths, args.elevation, str(renders_dir), args.samples,
-                                 progress=progress)
-
-        log.step("blend", "Saving {}".format(out_dir / "scene.blend"))
-        with _quiet_stdout(args.quiet):
-            bpy.ops.wm.save_as_mainfile(filepath=str(out_dir / "scene.blend"), check_existing=False)
-
-        log.step("comparison", "Comparing the renders with the 2-D lighting models")
-        result = compare.compare(core, str(painting_dir), str(renders_dir), azimuths, args.elevation, str(out_dir),
-                                 relief_px=compare.relief_pixels(canvas_obj))
-        log.end()
-    except SystemExit:
-        raise
-    except Exception as error:  # every failure ends with one sentence
-        sys.stderr.write(_sentence(error) + "\n")
-        return 1
-
-    log.say("")
-    log.say("Seconds per step:")
-    for name, seconds in log.times:
-        log.say("    {:<11} {:7.1f}".format(name, seconds))
-    log.say("    {:<11} {:7.1f}".format("total", time.perf_counter() - started))
-    best = result.get("best_azimuth_deg")
-    if best is not None:
-        log.say("The paper's lighting matches the relief best with the light at {:g} degrees (r = {:+.3f})."
-                .format(best, result.get("best_pearson", float("nan"))))
-    log.say("Pictures: {0}/comparison.png, {0}/correlation.png, {0}/light_sweep.gif; figures: {0}/comparison.md, "
-            "{0}/comparison.json; renders in {0}/renders, the scene in {0}/scene.blend".format(out_dir))
-    return 0
-
-
-def _sentence(error):
-    """One sentence for an exception: its own message when it has one, else its kind."""
-    text = " ".join(str(error).split())
-    if isinstance(error, OSError) and error.strerror:
-        text = "{}{}.".format(error.strerror, ": " + str(error.filename) if error.filename else "")
-    if not text:
-        text = "compare.py failed with {}.".format(type(error).__name__)
-    elif type(error).__name__ not in ("Failure", "SweepError", "CanvasError", "InputError", "OutputError",
-                                      "ParameterError", "PaintReliefError", "Cancelled", "ValueError", "OSError"):
-        text = "compare.py failed: {}".format(text)
-    return text if text.endswith(".") else text + "."
-
-
-class _quiet_stdout:
-    """With --quiet, silence what Blender itself prints (render statistics, 'Saved: ...') on file descriptor 1."""
-
-    def __init__(self, quiet):
-        self.quiet = quiet
-
-    def __enter__(self):
-        if self.quiet:
-            sys.stdout.flush()
-            self._saved = os.dup(1)
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, 1)
-            os.close(devnull)
-        return self
-
-    def __exit__(self, *exc):
-        if self.quiet:
-            sys.stdout.flush()
-            os.dup2(self._saved, 1)
-            os.close(self._saved)
-        return False
+    return package
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    package = extension_package()
+    command = importlib.import_module(package.__name__ + ".addon.compare_command")
+    sys.exit(command.main(sys.argv))

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The extension package: `make extension` builds one valid zip per platform
-(the extension plus that platform's SciPy wheel) that Blender installs,
+(the extension plus that platform's SciPy and OpenImageIO wheels) that Blender installs,
 enables, disables and enables again.
 
 The build runs the Makefile's own `extension` target on a copy of the
@@ -70,7 +70,7 @@ def built_zips(tmp_path_factory):
     src = tmp_path_factory.mktemp("extension") / "src"
     shutil.copytree(REPO, src, ignore=shutil.ignore_patterns(
         ".git", ".venv", ".pytest_cache", ".hypothesis", "__pycache__",
-        "dist", "build", "out", "wheels", "*.zip", ".venv-compat"))
+        "dist", "build", "out", "wheels", "*.zip", ".venv-shipped-*"))
     wheels = _manifest().get("wheels", [])
     for wheel in wheels:
         cached = REPO / wheel
@@ -130,9 +130,12 @@ def test_manifest_is_complete():
     assert len(manifest["tagline"]) < 64 and not manifest["tagline"].endswith(".")
     assert manifest["permissions"]["files"] and not manifest["permissions"]["files"].endswith(".")
     wheels = manifest["wheels"]
-    assert all(w.startswith("./wheels/scipy-") and w.endswith(".whl") for w in wheels), wheels
+    assert all(w.startswith(("./wheels/scipy-", "./wheels/openimageio-")) and w.endswith(".whl") for w in wheels), wheels
     assert not any("numpy" in w for w in wheels), "numpy comes with Blender and must not be bundled"
-    assert len({w.split("-")[1] for w in wheels}) == 1, "every platform gets the same SciPy version"
+    for name in ("scipy", "openimageio"):
+        own = [w for w in wheels if w.startswith("./wheels/{}-".format(name))]
+        assert len(own) == len(manifest["platforms"]), "one {} wheel per platform: {}".format(name, own)
+        assert len({w.split("-")[1] for w in own}) == 1, "every platform gets the same {} version".format(name)
 
 
 def test_packages_hold_the_extension_and_nothing_else(built_zips):
@@ -152,7 +155,8 @@ def test_packages_hold_the_extension_and_nothing_else(built_zips):
         assert not missing, "core files missing from {}: {}".format(zip_path.name, missing)
 
         wheels = sorted(name for name in names if name.startswith("wheels/"))
-        assert len(wheels) == 1 and "./" + wheels[0] in manifest["wheels"], (zip_path.name, wheels)
+        assert len(wheels) == 2 and all("./" + w in manifest["wheels"] for w in wheels), (zip_path.name, wheels)
+        assert sorted(w.split("/")[1].split("-")[0] for w in wheels) == ["openimageio", "scipy"], wheels
         stray = sorted(name for name in names
                        if name.split("/")[0] not in PACKAGE_ROOTS | {"wheels"}
                        or any(part.startswith(".") or part == "__pycache__" for part in name.split("/"))

@@ -417,3 +417,28 @@ def test_write_json_numpy_and_order(tmp_path):
     assert list(json.loads(text)) == ["b", "a", "n", "nested"]
     assert json.loads(text) == {"b": 0.5, "a": [0, 1, 2], "n": 4, "nested": {"z": [True]}}
     assert text == json.dumps(json.loads(text), indent=2) + "\n"
+
+
+def test_exif_orientation_is_honoured(tmp_path):
+    """A sideways JPEG (Orientation 6: shown turned 90 degrees clockwise) reads upright."""
+    import OpenImageIO as oiio
+
+    from core.io import read_image, upright
+
+    stored = np.zeros((20, 40, 3), np.uint8)
+    stored[:, :20] = (255, 0, 0)   # left half red
+    stored[:, 20:] = (0, 0, 255)   # right half blue
+    path = tmp_path / "sideways.jpg"
+    spec = oiio.ImageSpec(40, 20, 3, "uint8")
+    spec.attribute("Orientation", 6)
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec) and out.write_image(stored) and out.close()
+    image = read_image(path)
+    assert image.shape == (40, 20, 3)                       # portrait, as the camera was held
+    assert image[5, 10, 0] > 0.8 and image[5, 10, 2] < 0.2  # the stored left (red) is now the top
+    assert image[35, 10, 2] > 0.8 and image[35, 10, 0] < 0.2
+    grid = np.arange(6).reshape(2, 3, 1)
+    assert upright(grid, 1) is grid or np.array_equal(upright(grid, 1), grid)
+    assert np.array_equal(upright(grid, 8)[..., 0], [[2, 5], [1, 4], [0, 3]])
+    assert np.array_equal(upright(grid, 7)[..., 0], [[5, 2], [4, 1], [3, 0]])
+    assert np.array_equal(upright(grid, 3)[..., 0], [[5, 4, 3], [2, 1, 0]])

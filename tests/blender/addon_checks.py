@@ -242,6 +242,8 @@ def main(work, render):
 
     @check
     def camera():
+        settings.camera_match_resolution = True
+        settings.camera_standard_view = True
         result, error = run_op(ops.add_camera)
         first = counts(bpy)
         again, _ = run_op(ops.add_camera)

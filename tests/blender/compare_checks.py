@@ -103,6 +103,7 @@ def main(work):
         settings.painting_dir = painted
         settings.displacement_method = "MESH"
         assert ops.build_canvas() == {"FINISHED"}
+        settings.camera_match_resolution = settings.camera_standard_view = True
         assert ops.add_camera() == {"FINISHED"}
         obj = canvas.find_role(scene, "canvas")
         canvas.set_relief(obj, False)
@@ -169,6 +170,7 @@ def main(work):
         settings.light_elevation = math.radians(RAMP_ELEVATION)
         assert ops.build_canvas() == {"FINISHED"}
         assert ops.add_lights() == {"FINISHED"}
+        settings.camera_match_resolution = settings.camera_standard_view = True
         assert ops.add_camera() == {"FINISHED"}
         obj = canvas.find_role(scene, "canvas")
         renders = os.path.join(work, "ramp_renders")

@@ -92,16 +92,19 @@ def main(zip_path):
     loaded = [name for name in HEAVY_MODULES if name in sys.modules]
     check(not loaded, "enabling the extension imported {:s}".format(", ".join(loaded)))
 
-    # The settings work and the default output folder is the extension's user folder.
+    # The settings work; an unsaved file paints into the preferences' folder, never the extension's user folder.
     scene = bpy.context.scene
     scene.paint_relief.image_path = "//photo.png"
     check(scene.paint_relief.image_path == "//photo.png", "scene.paint_relief.image_path did not keep its value")
     properties = sys.modules[MODULE + ".addon.properties"]
-    out_dir = properties.default_output_dir(bpy.context)
-    check(os.path.isdir(out_dir) and os.path.realpath(out_dir).startswith(os.path.realpath(user_resources)),
-          "default output folder {!r} is not an existing folder under BLENDER_USER_RESOURCES".format(out_dir))
-    check(properties.output_dir(bpy.context) == os.path.normpath(out_dir),
-          "output_dir() with an empty setting should be the default folder")
+    chosen = os.path.join(user_resources, "chosen")
+    bpy.context.preferences.addons[MODULE].preferences.output_dir = chosen
+    out_dir = properties.output_dir(bpy.context)
+    check(out_dir == os.path.join(chosen, "photo_001"),
+          "the first painting of photo.png should go to {!r}, not {!r}".format(os.path.join(chosen, "photo_001"),
+                                                                                 out_dir))
+    extension_folder = bpy.utils.extension_path_user(MODULE, create=False)
+    check(not out_dir.startswith(extension_folder), "paintings must not go to the extension's user folder")
 
     result = bpy.ops.preferences.addon_disable(module=MODULE)
     check(result == {"FINISHED"}, "addon_disable returned {!r}".format(result))

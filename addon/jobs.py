@@ -1,0 +1,32 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""One paint at a time per scene: the scenes whose painting is running now.
+
+A painting runs in a worker thread while Blender stays usable; a second
+*Paint* in the same scene would write the same settings and folders, so it
+is refused until the first ends. The record lives in memory only (never in
+the .blend file), so a crash cannot leave a scene locked.
+"""
+
+_running = set()
+
+
+def _key(scene):
+    return scene.as_pointer()
+
+
+def is_running(scene):
+    """True while a painting of ``scene`` runs."""
+    return _key(scene) in _running
+
+
+def begin(scene):
+    """Record that a painting of ``scene`` starts; ValueError (one sentence) when one runs already."""
+    if _key(scene) in _running:
+        raise ValueError("A painting is already running in scene {}: wait for it to finish or press Esc to "
+                         "cancel it.".format(scene.name))
+    _running.add(_key(scene))
+
+
+def end(scene):
+    """Record that the painting of ``scene`` ended (finished, failed or cancelled)."""
+    _running.discard(_key(scene))

@@ -1,0 +1,283 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The extension as an artist gets it: installed from the built zip, driven headless step by step.
+
+Run in its own process with BLENDER_USER_RESOURCES set to a throw-away folder::
+
+    BLENDER_USER_RESOURCES=/tmp/u python tests/shipped/flow.py PACKAGE.zip WORK_DIR
+
+Blender installs the zip (and the wheels it declares) with
+``package_install_files``, exactly as *Install from Disk* does; nothing of
+the checkout is imported. Each step records its findings under its name (a
+step that raises records its traceback); the last line printed is
+``RESULTS <json>``, which test_flow.py asserts on.
+"""
+
+import json
+import os
+import sys
+import traceback
+
+REPO = "user_default"
+MODULE = "bl_ext.{}.paint_relief".format(REPO)
+RESULTS = {}
+
+
+def step(function):
+    try:
+        RESULTS[function.__name__] = function()
+    except Exception:
+        RESULTS[function.__name__] = {"exception": traceback.format_exc()}
+    return function
+
+
+def run_op(op, **kwargs):
+    """Call an operator; return (sorted result or None, error text)."""
+    try:
+        return sorted(op(**kwargs)), ""
+    except RuntimeError as error:  # an ERROR report raises in background mode
+        return None, str(error)
+
+
+def main(zip_path, work):
+    import bpy
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    result = bpy.ops.extensions.package_install_files(filepath=os.path.abspath(zip_path), repo=REPO,
+                                                      enable_on_install=True)
+    RESULTS["install"] = {"result": sorted(result), "enabled": MODULE in bpy.context.preferences.addons,
+                          "imported_at_enable": [m for m in ("scipy", "OpenImageIO") if m in sys.modules],
+                          "blender": list(bpy.app.version)}
+    package = sys.modules[MODULE]
+    dependencies = sys.modules[MODULE + ".addon.dependencies"]
+    ops = bpy.ops.paint_relief
+    scene = bpy.context.scene
+    settings = scene.paint_relief
+
+    @step
+    def libraries():
+        problem = dependencies.problem()
+        import numpy
+        import OpenImageIO
+        import scipy
+
+        return {"problem": problem, "openimageio": OpenImageIO.__file__,
+                "openimageio_source": dependencies.openimageio_source(OpenImageIO),
+                "openimageio_version": OpenImageIO.VERSION_STRING, "numpy": numpy.__version__,
+                "scipy": scipy.__version__, "scipy_file": scipy.__file__,
+                "user_resources": os.environ["BLENDER_USER_RESOURCES"]}
+
+    from importlib import import_module
+
+    core = import_module(MODULE + ".core")
+    io = import_module(MODULE + ".core.io")
+    import numpy as np
+
+    photo = os.path.join(work, "photo.png")
+    y, x = np.mgrid[0:48, 0:64]
+    io.write_png(photo, np.stack([x / 64, y / 48, 0.5 + 0.4 * np.sin(x / 3.0) * np.cos(y / 5.0)], -1)
+                 .astype(np.float32))
+
+    @step
+    def paint():
+        settings.image_path = photo
+        settings.output_dir = os.path.join(work, "painted")
+        settings.stroke_sizes = "400,200"
+        result, error = run_op(ops.paint)
+        folder = settings.painting_dir
+        return {"result": result, "error": error, "painting_dir": folder,
+                "files": sorted(os.listdir(folder)) if folder and os.path.isdir(folder) else []}
+
+    @step
+    def stage():
+        results = {name: run_op(getattr(ops, name)) for name in ("build_canvas", "add_lights", "add_camera")}
+        canvas = [o for o in scene.objects if o.get("paint_relief_role") == "canvas"]
+        return {"results": results, "canvas_dimensions": list(canvas[0].dimensions[:2]) if canvas else None,
+                "resolution": [scene.render.resolution_x, scene.render.resolution_y]}
+
+    @step
+    def cycles_render():
+        scene.render.engine = "CYCLES"
+        scene.cycles.device = "CPU"
+        scene.cycles.samples = 4
+        scene.cycles.use_denoising = False
+        settings_image = scene.render.image_settings
+        if hasattr(settings_image, "media_type"):
+            settings_image.media_type = "IMAGE"
+        settings_image.file_format = "PNG"
+        path = os.path.join(work, "render.png")
+        scene.render.filepath = path
+        bpy.ops.render.render(write_still=True)
+        pixels = io.read_image(path)
+        return {"exists": os.path.isfile(path), "size": list(pixels.shape[:2]), "mean": float(pixels.mean()),
+                "std": float(pixels.std())}
+
+    @step
+    def comparison():
+        settings.compare_azimuths = 2
+        settings.compare_samples = 2
+        settings.compare_output_dir = os.path.join(work, "comparison")
+        result, error = run_op(ops.render_comparison)
+        folder = settings.compare_output_dir
+        sheet_path = os.path.join(folder, "comparison.png")
+        found = {"result": result, "error": error, "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else []}
+        if os.path.isfile(sheet_path):
+            sheet_module = import_module(MODULE + ".core.sheet")
+            sheet = io.read_image(sheet_path)
+            # The first row of labels: the strip between the top gap and the first pictures.
+            strip = sheet[6:6 + 24, 6:200]
+            found["label_pixels"] = int((np.abs(strip - np.asarray(sheet_module.BACKGROUND)).max(axis=2) > 0.3).sum())
+            chart = io.read_image(os.path.join(folder, "correlation.png"))
+            found["chart_title_dark_pixels"] = int((chart[5:30, 70:400].max(axis=2) < 0.5).sum())
+        return found
+
+    canvas_mod = import_module(MODULE + ".addon.canvas")
+    jobs = import_module(MODULE + ".addon.jobs")
+    cli_command = import_module(MODULE + ".addon.cli_command")
+
+    @step
+    def second_paint_refused():
+        jobs.begin(scene)  # what the interactive Paint does while its worker runs
+        try:
+            refused, error = run_op(ops.paint)
+        finally:
+            jobs.end(scene)
+        again, again_error = run_op(ops.paint)
+        return {"refused": refused, "error": error, "after": again, "after_error": again_error}
+
+    @step
+    def default_paintings_keep_their_folders():
+        bpy.context.preferences.addons[MODULE].preferences.output_dir = os.path.join(work, "defaults")
+        settings.output_dir = ""
+        folders = []
+        for _ in range(2):
+            result, error = run_op(ops.paint)
+            folders.append(settings.painting_dir)
+        return {"folders": folders, "error": error,
+                "both_there": all(os.path.isfile(os.path.join(f, "color.exr")) for f in folders),
+                "user_resources": os.environ["BLENDER_USER_RESOURCES"]}
+
+    @step
+    def two_canvases():
+        first, second = RESULTS["default_paintings_keep_their_folders"]["folders"]
+        art = bpy.data.collections.new("Art")
+        scene.collection.children.link(art)
+        layer = bpy.context.view_layer
+        layer.active_layer_collection = layer.layer_collection.children["Art"]
+        made = []
+        for folder in (first, second):
+            settings.painting_dir = folder
+            run_op(ops.build_canvas)
+            made.append(layer.objects.active)
+        found = []
+        for obj in made:
+            material = obj.active_material
+            colour = next(n.image for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"
+                          and n.label == "Colour")
+            found.append({"name": obj.name, "material": material.name,
+                          "colour_file": os.path.dirname(bpy.path.abspath(colour.filepath)),
+                          "in_art": obj.name in art.objects, "selected": obj.select_get()})
+        return {"canvases": found, "folders": [first, second], "count": len(canvas_mod.canvases(scene)),
+                "active": layer.objects.active.name}
+
+    @step
+    def rebuild_keeps_user_changes():
+        obj = canvas_mod.canvases(scene)[0]
+        layer = bpy.context.view_layer
+        layer.objects.active = obj
+        obj.location = (0.3, -0.2, 0.1)
+        obj.rotation_euler = (0.2, 0.1, 0.5)
+        obj.scale = (1.5, 1.5, 1.5)
+        tree = obj.active_material.node_tree
+        extra = tree.nodes.new("ShaderNodeHueSaturation")
+        extra.name = "My Hue"
+        colour = tree.nodes["Paint Relief Colour"]
+        bsdf = tree.nodes["Paint Relief BSDF"]
+        tree.links.new(colour.outputs["Color"], extra.inputs["Color"])
+        tree.links.new(extra.outputs["Color"], bsdf.inputs["Base Color"])
+        bevel = obj.modifiers.new("My Bevel", "BEVEL")
+        layer.update()
+        before = {"matrix": [v for r in obj.matrix_world for v in r], "objects": len(bpy.data.objects),
+                  "materials": len(bpy.data.materials)}
+        settings.painting_dir = obj["paint_relief_painting_dir"]
+        settings.thickness_mm = 3.0
+        result, error = run_op(ops.build_canvas)
+        tree = obj.active_material.node_tree
+        base = tree.nodes["Paint Relief BSDF"].inputs["Base Color"]
+        layer.update()
+        return {"result": result, "error": error, "before": before,
+                "after": {"matrix": [v for r in obj.matrix_world for v in r], "objects": len(bpy.data.objects),
+                          "materials": len(bpy.data.materials)},
+                "extra_node": "My Hue" in tree.nodes,
+                "base_colour_from": base.links[0].from_node.name if base.links else None,
+                "modifiers": [m.name for m in obj.modifiers], "bevel_kept": bevel.name in obj.modifiers,
+                "displace_strength": obj.modifiers["Paint Relief Displace"].strength}
+
+    @step
+    def agx_stays_agx():
+        scene.view_settings.view_transform = "AgX"
+        scene.render.resolution_x, scene.render.resolution_y = 1920, 1080
+        result, error = run_op(ops.add_camera)
+        kept = {"view": scene.view_settings.view_transform,
+                "resolution": [scene.render.resolution_x, scene.render.resolution_y]}
+        settings.camera_match_resolution = True
+        settings.camera_standard_view = True
+        asked, _ = run_op(ops.add_camera)
+        changed = {"view": scene.view_settings.view_transform,
+                   "resolution": [scene.render.resolution_x, scene.render.resolution_y]}
+        return {"result": result, "error": error, "kept": kept, "asked": asked, "changed": changed,
+                "map_size": list(canvas_mod.find_role(scene, "canvas")["paint_relief_map_size"])}
+
+    @step
+    def exif_sideways_jpeg_paints_upright():
+        import OpenImageIO as oiio
+
+        stored = np.zeros((24, 48, 3), np.uint8)
+        stored[:, :24] = (230, 20, 20)
+        stored[:, 24:] = (20, 20, 230)
+        path = os.path.join(work, "sideways.jpg")
+        spec = oiio.ImageSpec(48, 24, 3, "uint8")
+        spec.attribute("Orientation", 6)
+        out = oiio.ImageOutput.create(path)
+        out.open(path, spec)
+        out.write_image(stored)
+        out.close()
+        settings.source = "FILE"
+        settings.image_path = path
+        settings.output_dir = os.path.join(work, "sideways")
+        result, error = run_op(ops.paint)
+        painted = io.read_image(os.path.join(settings.painting_dir, "painting.png"))
+        return {"result": result, "error": error, "shape": list(painted.shape),
+                "top_mean": painted[:20].mean(axis=(0, 1)).tolist(),
+                "bottom_mean": painted[-20:].mean(axis=(0, 1)).tolist()}
+
+    @step
+    def command_line():
+        registered = cli_command._handle is not None
+        bad = cli_command.execute(["compare", os.path.join(work, "no_such_photo.png"), "-o", os.path.join(work, "x")])
+        usage = cli_command.execute(["frobnicate"])
+        out = os.path.join(work, "cli_compare")
+        code = cli_command.execute(["compare", photo, "-o", out, "--azimuths", "1", "--samples", "1", "--size", "48",
+                                    "--quiet"])
+        return {"registered": registered, "bad_input": bad, "usage": usage, "compare": code,
+                "files": sorted(os.listdir(out)) if os.path.isdir(out) else []}
+
+    @step
+    def user_world_survives_add_lights_and_reload():
+        world = bpy.data.worlds.new("My World")
+        scene.world = world
+        result, error = run_op(ops.add_lights)
+        before = scene.world.name
+        path = os.path.join(work, "world.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+        return {"result": result, "error": error, "before": before,
+                "after_reload": bpy.context.scene.world.name if bpy.context.scene.world else None,
+                "lights": sorted(o.name for o in bpy.context.scene.objects if o.type == "LIGHT")}
+
+    print("RESULTS " + json.dumps(RESULTS), flush=True)
+
+
+if __name__ == "__main__":
+    if not os.environ.get("BLENDER_USER_RESOURCES"):
+        sys.exit("BLENDER_USER_RESOURCES is not set: refusing to touch a real user profile")
+    main(sys.argv[1], sys.argv[2])

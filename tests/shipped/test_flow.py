@@ -1,0 +1,132 @@
+"""The headless flow from the installed zip: paint, canvas, lights, camera, a Cycles render, the comparison.
+
+Runs in the environments `make test-shipped` builds (bpy of one Blender
+version, its NumPy, pytest; no PyPI SciPy or OpenImageIO), so every library
+the painter uses comes from Blender or from the zip's wheels.
+"""
+
+import pytest
+
+from conftest import run_script
+
+
+@pytest.fixture(scope="module")
+def flow(package_zip, tmp_path_factory):
+    work = tmp_path_factory.mktemp("flow")
+    run, results = run_script("flow.py", package_zip, work, user_dir=work / "blender_user", cwd=work)
+    assert results, "flow.py printed no results:\n{}\n{}".format(run.stdout[-3000:], run.stderr[-3000:])
+    return results
+
+
+def _step(flow, name):
+    found = flow[name]
+    assert "exception" not in found, found.get("exception")
+    return found
+
+
+def test_installs_without_importing_the_painter(flow):
+    found = flow["install"]
+    assert found["result"] == ["FINISHED"] and found["enabled"]
+    assert found["imported_at_enable"] == []
+
+
+def test_libraries_come_from_blender_or_the_zip(flow):
+    found = _step(flow, "libraries")
+    assert found["problem"] is None
+    user = found["user_resources"]
+    assert found["scipy_file"].startswith(user), "SciPy must come from the zip's wheel"
+    if tuple(flow["install"]["blender"]) >= (4, 4, 0):
+        assert found["openimageio_source"] == "blender", found["openimageio"]
+    else:
+        assert found["openimageio_source"] == "wheel" and found["openimageio"].startswith(user)
+
+
+def test_paint(flow):
+    found = _step(flow, "paint")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert {"color.exr", "height.exr", "opacity.exr", "normal.exr", "painting.png"} <= set(found["files"])
+
+
+def test_canvas_lights_camera(flow):
+    found = _step(flow, "stage")
+    assert all(result == ["FINISHED"] for result, _ in found["results"].values()), found["results"]
+    assert found["canvas_dimensions"] == pytest.approx([0.40, 0.30], abs=0.002)
+
+
+def test_cycles_render(flow):
+    found = _step(flow, "cycles_render")
+    assert found["exists"] and found["size"][0] > 0 and found["std"] > 0.01
+
+
+def test_comparison_with_labels(flow):
+    found = _step(flow, "comparison")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert {"comparison.png", "correlation.png", "comparison.md", "light_sweep.gif"} <= set(found["files"])
+    assert found["label_pixels"] > 100, "the comparison sheet's labels are missing"
+    assert found["chart_title_dark_pixels"] > 50, "the chart's title is missing"
+
+
+# --- scene manners -------------------------------------------------------------------
+
+def test_second_paint_is_refused_while_one_runs(flow):
+    found = _step(flow, "second_paint_refused")
+    assert found["refused"] is None and "already running" in found["error"]
+    assert found["after"] == ["FINISHED"], found["after_error"]
+
+
+def test_two_default_paintings_both_stay_on_disk(flow):
+    found = _step(flow, "default_paintings_keep_their_folders")
+    first, second = found["folders"]
+    assert first != second and found["both_there"], found
+    assert not first.startswith(found["user_resources"]), "paintings must not go to the extension's user folder"
+
+
+def test_two_canvases_show_two_paintings(flow):
+    found = _step(flow, "two_canvases")
+    a, b = found["canvases"]
+    # Three canvases in all: the one staged earlier from the first painting, and these two.
+    assert found["count"] == 3 and a["name"] != b["name"] and a["material"] != b["material"]
+    assert [a["colour_file"], b["colour_file"]] == found["folders"]
+    assert a["in_art"] and b["in_art"], "new canvases go into the active collection"
+    assert b["selected"] and not a["selected"] and found["active"] == b["name"]
+
+
+def test_rebuild_keeps_transform_modifiers_and_user_nodes(flow):
+    found = _step(flow, "rebuild_keeps_user_changes")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["after"]["matrix"] == pytest.approx(found["before"]["matrix"])
+    assert found["before"]["matrix"][3] == pytest.approx(0.3)  # moved, so the check means something
+    assert found["after"]["objects"] == found["before"]["objects"]
+    assert found["after"]["materials"] == found["before"]["materials"]
+    assert found["extra_node"] and found["base_colour_from"] == "My Hue"
+    assert found["bevel_kept"] and found["modifiers"].index("Paint Relief Displace") < found["modifiers"].index("My Bevel")
+    assert found["displace_strength"] == pytest.approx(0.003)
+
+
+def test_agx_stays_agx(flow):
+    found = _step(flow, "agx_stays_agx")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["kept"] == {"view": "AgX", "resolution": [1920, 1080]}
+    assert found["changed"] == {"view": "Standard", "resolution": found["map_size"]}
+
+
+def test_sideways_jpeg_paints_upright(flow):
+    found = _step(flow, "exif_sideways_jpeg_paints_upright")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["shape"] == [48, 24, 3]
+    top, bottom = found["top_mean"], found["bottom_mean"]
+    assert top[0] > top[2] + 0.3 and bottom[2] > bottom[0] + 0.3, (top, bottom)
+
+
+def test_command_line_compare(flow):
+    found = _step(flow, "command_line")
+    assert found["registered"]
+    assert (found["bad_input"], found["usage"], found["compare"]) == (1, 2, 0)
+    assert {"comparison.png", "correlation.png", "comparison.md", "scene.blend"} <= set(found["files"])
+
+
+def test_user_world_survives_add_lights_and_a_reload(flow):
+    found = _step(flow, "user_world_survives_add_lights_and_reload")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["before"] == "My World" and found["after_reload"] == "My World"
+    assert len(found["lights"]) >= 1
