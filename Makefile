@@ -54,6 +54,7 @@ demo: $(STAMP)
 bench: $(STAMP)
 	$(PY) bench/analysis.py
 	$(PY) bench/paint.py
+	$(PY) bench/strokes.py
 	$(PY) bench/hertzmann.py
 	$(PY) bench/lighting.py
 	$(PY) bench/blender.py
