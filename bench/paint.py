@@ -1,45 +1,76 @@
-"""Benchmark of the painter at default settings.
+"""Benchmark of the whole `core paint` command at default settings.
 
-Prints, for photographs of 0.25, 1 and 4 megapixels, the median seconds over
-several runs (analysis and strokes), the stroke count, strokes per second and
-the peak memory.
-Usage: python bench/paint.py [--runs N] [--sizes 0.25,1,4]
+For a bundled photograph resized to each size, runs `python -m core paint`
+as a user would (imports, analysis, strokes, writing) several times and
+prints the median and best wall-clock seconds, the seconds per megapixel,
+the stroke count, the peak resident memory of the process and the size of
+the painted folder, then the median split over the stages of report.json.
+Usage: python bench/paint.py [--runs N] [--sizes 1,4,16]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
 
-from common import median_runs, peak_mib, photo
+from common import ROOT, photo
 
-from core import Params
-from core.painting import paint
+from core import io
+
+
+def run_command(image: Path, out: Path) -> tuple:
+    """One `core paint` run: (wall seconds, peak resident MiB, report dict)."""
+    start = time.perf_counter()
+    child = subprocess.Popen([sys.executable, "-m", "core", "paint", str(image), "-o", str(out), "-q"], cwd=ROOT)
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.perf_counter() - start
+    child.returncode = os.waitstatus_to_exitcode(status)
+    if child.returncode != 0:
+        raise SystemExit(f"core paint failed on {image} with exit code {child.returncode}")
+    peak = usage.ru_maxrss / 1024.0  # KiB on Linux
+    return seconds, peak, json.loads((out / "report.json").read_text())
+
+
+def folder_mib(folder: Path) -> float:
+    """Total size of the files in ``folder`` (MiB)."""
+    return sum(p.stat().st_size for p in folder.iterdir() if p.is_file()) / 2**20
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--sizes", default="0.25,1,4", help="megapixels, comma-separated")
+    parser.add_argument("--sizes", default="1,4,16", help="megapixels, comma-separated")
     args = parser.parse_args()
-    params = Params()
-    print(f"{'MP':>5} {'size':>11} {'strokes':>8} {'analysis s':>10} {'strokes s':>10} {'total s':>8} "
-          f"{'s/MP':>6} {'strokes/s':>10} {'peak MiB':>9}")
-    for mp in (float(s) for s in args.sizes.split(",")):
-        image = photo(mp)
-        h, w = image.shape[:2]
-        result = {}
-
-        def run():
-            result["painting"] = painting = paint(image, params)
-            seconds = painting.statistics["seconds"]
-            return {"analysis": sum(v for k, v in seconds.items() if k != "strokes"), "strokes": seconds["strokes"]}
-
-        figures = median_runs(run, args.runs)
-        peak = peak_mib(lambda: paint(image, params))
-        strokes = result["painting"].statistics["strokes"]
-        print(f"{h * w / 1e6:5.2f} {w:>5}x{h:<5} {strokes:>8} {figures['analysis']:>10.2f} {figures['strokes']:>10.2f} "
-              f"{figures['total']:>8.2f} {figures['total'] / (h * w / 1e6):>6.2f} "
-              f"{strokes / figures['total']:>10.0f} {peak:>9.0f}", flush=True)
+    print(f"{'MP':>5} {'size':>11} {'strokes':>8} {'median s':>9} {'best s':>7} {'s/MP':>6} {'peak MiB':>9} "
+          f"{'MiB out':>8} {'MiB/MP':>7}  stages (median s)")
+    with tempfile.TemporaryDirectory() as tmp:
+        for mp in (float(s) for s in args.sizes.split(",")):
+            image = Path(tmp) / f"photo_{mp:g}mp.png"
+            pixels = photo(mp)
+            io.write_png(image, pixels)
+            h, w = pixels.shape[:2]
+            del pixels
+            walls, peaks, stages = [], [], {}
+            for i in range(args.runs):
+                out = Path(tmp) / f"out_{mp:g}_{i}"
+                seconds, peak, report = run_command(image, out)
+                walls.append(seconds)
+                peaks.append(peak)
+                for name, value in report["seconds"].items():
+                    stages.setdefault(name, []).append(value)
+            size = folder_mib(out)
+            mpx = h * w / 1e6
+            split = " ".join(f"{name} {statistics.median(v):.2f}" for name, v in stages.items())
+            print(f"{mpx:5.2f} {w:>5}x{h:<5} {report['strokes']:>8} {statistics.median(walls):>9.2f} "
+                  f"{min(walls):>7.2f} {statistics.median(walls) / mpx:>6.2f} {max(peaks):>9.0f} {size:>8.1f} "
+                  f"{size / mpx:>7.1f}  {split}", flush=True)
 
 
 if __name__ == "__main__":

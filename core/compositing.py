@@ -23,7 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 
 MAX_INTENSITY = 1.0 - 1e-6  # keeps log(1 - I) finite for full-contact bristles
-MAX_ROWS_PER_PIXEL = 8  # brush rows a pixel gets from one stroke before stamps are spaced out
 
 
 @dataclass
@@ -66,18 +65,6 @@ def stamp_positions(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     x = samples[:, 0:1].astype(np.float32) + along * c - across * s
     y = samples[:, 1:2].astype(np.float32) + along * s + across * c
     return x, y
-
-
-def stamp_stride(brush_length: int, max_rows: int = MAX_ROWS_PER_PIXEL) -> int:
-    """Path samples per stamp for a brush ``brush_length`` px along: 1 up to ``max_rows``, then more.
-
-    A brush L rows long stamped every pixel lays L contributions on each pixel
-    it crosses, so the cost of a stroke grows with its width times its area.
-    Stamping every k = round(L / max_rows) samples, each stamp counted k times
-    (see stroke_footprint's ``repeat``), keeps about ``max_rows`` rows per
-    pixel and the painter's cost linear in pixels.
-    """
-    return max(1, int(round(brush_length / max_rows)))
 
 
 def bilinear_splat(x: np.ndarray, y: np.ndarray, shape: tuple) -> tuple:
@@ -173,3 +160,167 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     pixels = (local[starts] // box_w + y0) * np.int32(w) + (local[starts] % box_w + x0)
     return Footprint(pixels.astype(np.int32), transmittance, paint, deposit.astype(np.float32),
                      height.astype(np.float32))
+
+
+def tip_grid(along: np.ndarray, across: np.ndarray) -> tuple:
+    """Row and column of each of B bristles in their tip's grid: (rows (B,) int, columns (B,) int, R, W).
+
+    Bristles sit on a whole-pixel lattice (see core.brush): row r lies r px
+    behind the front (largest ``along``), column c is c px right of the
+    smallest ``across``. Lattice cells without a bristle are empty rows or columns.
+    """
+    along = np.asarray(along, np.float64)
+    across = np.asarray(across, np.float64)
+    rows = np.rint(along.max() - along).astype(np.int64)
+    columns = np.rint(across - across.min()).astype(np.int64)
+    return rows, columns, int(rows.max()) + 1, int(columns.max()) + 1
+
+
+def path_at(samples: np.ndarray, angles: np.ndarray, arc: np.ndarray) -> tuple:
+    """Positions (x, y) and directions (K,) along a path of S samples one px apart, at arc lengths ``arc`` (K,) px.
+
+    Inside [0, S - 1] positions and unwrapped directions are interpolated
+    linearly; beyond the ends the path goes on straight along its end directions.
+    """
+    s = len(samples)
+    theta = np.unwrap(np.asarray(angles, np.float64))
+    if s == 1:
+        t = np.asarray(arc, np.float64)
+        return samples[0, 0] + t * np.cos(theta[0]), samples[0, 1] + t * np.sin(theta[0]), np.full(len(t), theta[0])
+    index = np.arange(s, dtype=np.float64)
+    t = np.asarray(arc, np.float64)
+    x = np.interp(t, index, samples[:, 0])
+    y = np.interp(t, index, samples[:, 1])
+    direction = np.interp(t, index, theta)
+    before, after = t < 0, t > s - 1
+    x[before] = samples[0, 0] + t[before] * np.cos(theta[0])
+    y[before] = samples[0, 1] + t[before] * np.sin(theta[0])
+    x[after] = samples[-1, 0] + (t[after] - (s - 1)) * np.cos(theta[-1])
+    y[after] = samples[-1, 1] + (t[after] - (s - 1)) * np.sin(theta[-1])
+    return x, y, direction
+
+
+def fold_rows(scale: np.ndarray, grid: np.ndarray, grid_colour: np.ndarray, passes: float) -> tuple:
+    """Eq. 4 folded over a brush's rows, front row first, for each of K contact patterns.
+
+    scale: (K, R) contact multiplier of each row (0 = the row is absent);
+    grid: (R, W) bristle contact; grid_colour: (R, W, 3). Returns
+    (paint (K, W, 3), log transmittance (K, W), contact laid (K, W)), all float32.
+    """
+    strength = scale[:, None, :] * grid.T[None, :, :]                                   # (K, W, R)
+    np.minimum(strength, np.float32(MAX_INTENSITY), out=strength)
+    log_keep = np.log1p(-strength) * np.float32(passes)
+    after = np.exp(np.cumsum(log_keep[..., ::-1], axis=2)[..., ::-1] - log_keep)         # prod over later rows
+    paint = np.einsum("kwr,rwc->kwc", -np.expm1(log_keep) * after, grid_colour)          # no BLAS here
+    return paint, log_keep.sum(axis=2), strength.sum(axis=2)
+
+
+def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray,
+                    intensity: np.ndarray, colours: np.ndarray, shape: tuple, passes: float = 1.0,
+                    contact: np.ndarray = None, stamp_relief: np.ndarray = None,
+                    bristle_relief: np.ndarray = None, rows: float = 1.0) -> Footprint:
+    """The Footprint of a stroke with every bristle column folded once: the fast form of ``stroke_footprint``.
+
+    samples (S, 2), one px apart, and angles (S,): the path, stamped at every
+    sample; the other arguments as ``stroke_footprint`` (``passes`` is its
+    ``repeat``, the same for every stamp; contact and stamp_relief (S,)).
+    On a straight path the bristle of row r stamped at sample s lands where
+    the bristle of row r + 1 lands at sample s + 1: each column of the brush
+    draws one track, and the rows passing over a point of it fold, in stamp
+    order (front row first), into one contribution (paint, transmittance) of
+    Eq. 4. The track is sampled every px of arc, each sample folding the rows
+    whose stamps exist there (all of them inside the stroke, fewer at its
+    ends), then splatted like a bristle (see the module docstring). This lays
+    R times fewer contributions for a brush R rows long. On a curved path a
+    track follows the path's normal at its own arc length, which differs
+    from stamping by the brush's turn over its own length; the contact and
+    relief of a track sample are the path's at its arc length.
+    """
+    h, w = shape
+    n_samples = len(samples)
+    row, column, n_rows, n_columns = tip_grid(along, across)
+    grid = np.zeros((n_rows, n_columns), np.float32)
+    grid[row, column] = intensity
+    grid_colour = np.zeros((n_rows, n_columns, 3), np.float32)
+    grid_colour[row, column] = colours
+    offsets = (float(np.min(across)) + np.arange(n_columns)).astype(np.float32)
+    front = float(np.max(along))
+    ridge = np.ones(n_columns, np.float32)
+    if bristle_relief is not None:
+        ridge[column] = bristle_relief
+
+    n_track = n_samples + n_rows - 1
+    k = np.arange(n_track)
+    arc = k - (n_rows - 1) + front                                   # arc length of each track sample (px)
+    first_row = np.maximum(0, n_rows - 1 - k)
+    last_row = np.minimum(n_rows - 1, n_samples + n_rows - 2 - k)
+    r = np.arange(n_rows)
+    present = (r[None, :] >= first_row[:, None]) & (r[None, :] <= last_row[:, None])      # (K, R)
+    stamp_index = np.arange(n_samples, dtype=np.float64)
+    touch = np.ones(n_track, np.float32) if contact is None else np.interp(arc, stamp_index, contact).astype(np.float32)
+    # Inside the stroke every row is present at full contact: one fold per column serves all those samples.
+    interior = present.all(axis=1) & (touch == 1.0)
+    distinct = np.flatnonzero(~interior)
+    folds = [fold_rows(touch[distinct, None] * present[distinct], grid, grid_colour, passes)]
+    if interior.any():
+        folds.append(fold_rows(np.ones((1, n_rows), np.float32), grid, grid_colour, passes))
+    paint = np.empty((n_track, n_columns, 3), np.float32)
+    log_total = np.empty((n_track, n_columns), np.float32)
+    laid = np.empty((n_track, n_columns), np.float32)
+    for where, (p_fold, t_fold, l_fold) in zip((distinct, np.flatnonzero(interior)), folds):
+        paint[where], log_total[where], laid[where] = p_fold, t_fold, l_fold
+    laid *= np.float32(1.0 / float(rows))
+    build = np.ones(n_track, np.float32) if stamp_relief is None else \
+        np.interp(arc, stamp_index, stamp_relief).astype(np.float32)
+
+    px, py, direction = path_at(np.asarray(samples, np.float64), angles, arc)
+    c, s = np.cos(direction)[:, None], np.sin(direction)[:, None]
+    x = (px[:, None] - offsets[None, :] * s).astype(np.float32)                             # (K, W)
+    y = (py[:, None] + offsets[None, :] * c).astype(np.float32)
+    if n_track > 1:                                                                         # arc a track sample spans
+        span = np.hypot(np.gradient(x, axis=0), np.gradient(y, axis=0)).astype(np.float32)
+    else:
+        span = np.ones_like(x)
+    live = log_total < 0
+    keys = np.flatnonzero(live.ravel())
+    if keys.size == 0:
+        return Footprint.empty()
+    ix, iy, weight = bilinear_splat(x.ravel()[keys], y.ravel()[keys], shape)
+    weight *= span.ravel()[keys][:, None]
+    inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h) & (weight > 0)
+    contribution = np.flatnonzero(inside.ravel()).astype(np.int32)
+    if contribution.size == 0:
+        return Footprint.empty()
+    ix = ix.ravel()[contribution]
+    iy = iy.ravel()[contribution]
+    x0, y0 = int(ix.min()), int(iy.min())
+    box_w = int(ix.max()) - x0 + 1
+    local = (iy - y0) * np.int32(box_w) + (ix - x0)
+    order = np.argsort(local, kind="stable")
+    contribution = contribution[order]
+    local = local[order]
+    point = keys[contribution >> 2]                                                         # (track sample, column)
+    weight = weight.ravel()[contribution].astype(np.float64)
+
+    new_pixel = np.empty(len(local), dtype=bool)
+    new_pixel[0] = True
+    np.not_equal(local[1:], local[:-1], out=new_pixel[1:])
+    starts = np.flatnonzero(new_pixel)
+    ends = np.append(starts[1:], len(local))
+    counts = ends - starts
+
+    point_log = log_total.ravel().astype(np.float64)[point]
+    log_keep_c = weight * point_log
+    cumulative = np.cumsum(log_keep_c)
+    later = np.exp(np.repeat(cumulative[ends - 1], counts) - cumulative)
+    # a fold (P, T) applied with weight w: transmittance T^w and paint P (1 - T^w) / (1 - T)
+    share = (-np.expm1(log_keep_c) / -np.expm1(point_log) * later).astype(np.float32)
+    colour_paint = np.add.reduceat(share[:, None] * paint.reshape(-1, 3)[point], starts, axis=0)
+    transmittance = np.exp(cumulative[ends - 1] - (cumulative[starts] - log_keep_c[starts]))
+    laid_c = weight.astype(np.float32) * laid.ravel()[point]
+    deposit = np.add.reduceat(laid_c, starts)
+    gain = ridge[point % n_columns] * build[point // n_columns]
+    height = np.add.reduceat(laid_c * gain, starts)
+    pixels = (local[starts] // box_w + y0) * np.int32(w) + (local[starts] % box_w + x0)
+    return Footprint(pixels.astype(np.int32), transmittance, colour_paint.astype(np.float32),
+                     deposit.astype(np.float32), height.astype(np.float32))

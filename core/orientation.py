@@ -178,6 +178,36 @@ def _pairwise(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.hypot(dy, dx)
 
 
+def batched_solve(lhs: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve lhs x = rhs for a stack of small systems: (c, n, n), (c, n, d) -> (c, n, d) float64.
+
+    Gaussian elimination with partial pivoting, vectorised over the stack in
+    plain NumPy arithmetic. np.linalg.solve hands every small system to
+    LAPACK, whose BLAS threads spin against each other on a busy machine
+    (seconds instead of a tenth of one at 1 megapixel); this costs the same
+    on one core and uses no BLAS.
+    """
+    a = np.concatenate([np.array(lhs, dtype=np.float64), np.array(rhs, dtype=np.float64)], axis=2)
+    c, n = a.shape[0], a.shape[1]
+    batch = np.arange(c)
+    for j in range(n):
+        pivot = j + np.argmax(np.abs(a[:, j:, j]), axis=1)
+        swap = pivot != j
+        if swap.any():
+            rows = a[batch[swap], pivot[swap]].copy()
+            a[batch[swap], pivot[swap]] = a[batch[swap], j]
+            a[batch[swap], j] = rows
+        top = a[:, j, j]
+        safe = np.where(top == 0.0, 1.0, top)
+        a[:, j, j:] /= safe[:, None]
+        factors = a[:, j + 1:, j].copy()
+        a[:, j + 1:, j:] -= factors[:, :, None] * a[:, j, None, j:]
+    x = a[:, :, n:]
+    for j in range(n - 1, 0, -1):                                     # back substitution (unit diagonal)
+        x[:, :j] -= a[:, :j, j, None] * x[:, j, None, :]
+    return x
+
+
 def _solve_local(pts: np.ndarray, val: np.ndarray, sets: np.ndarray, smoothing: float) -> np.ndarray:
     """Coefficients (c, k+1, d) of the interpolant −r + constant on each neighbour set (c, k)."""
     c, k = sets.shape
@@ -193,7 +223,7 @@ def _solve_local(pts: np.ndarray, val: np.ndarray, sets: np.ndarray, smoothing: 
         lhs[:, k, :k] = 1.0
         rhs = np.zeros((s.shape[0], k + 1, val.shape[1]))
         rhs[:, :k] = val[s]
-        coeffs[start:start + chunk] = np.linalg.solve(lhs, rhs)
+        coeffs[start:start + chunk] = batched_solve(lhs, rhs)
     return coeffs
 
 

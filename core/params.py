@@ -90,7 +90,7 @@ class Params:
     may end it; only an edge or the canvas border ends it sooner."""
     max_length: int = 16
     """Control points of a curved stroke at most, anchor included (one brush radius apart: 16 = 7.5 widths)."""
-    edge_threshold: float = 0.12
+    edge_threshold: float = 0.11
     """T_e of the edge test: Euclidean RGB distance, on the brush-scale reference, from the anchor colour."""
     edge_smoothing: float = 0.25
     """Sigma, as a fraction of the brush width, of the reference the edge and colour tests read."""
@@ -107,8 +107,8 @@ class Params:
     bristle_alpha: float = 0.7
     """alpha of Eq. 5: weight of each bristle's own sampled colour."""
     perturbation: float = 0.03
-    """Amplitude of the per-stroke random lightness change of Eq. 5 (R, G and B scaled alike by
-    1 + 2 U(-a, a): about +-a at mid-gray, the hue kept)."""
+    """Amplitude of the per-stroke random lightness change of Eq. 5: an offset of 100 U(-a, a) in CIELAB L*
+    (hue and chroma kept; 0.03 is +-3 L*, about +-0.03 in sRGB at mid-gray)."""
     hue_perturbation: float = 0.0
     """Amplitude of an extra per-channel random offset (hue jitter); at most a quarter of ``perturbation``."""
     taper: float = 0.5

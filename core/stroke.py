@@ -9,7 +9,8 @@ import numpy as np
 
 from .brush import BrushTip
 from .canvas import Canvas
-from .compositing import stamp_stride, stroke_footprint
+from .colour import lab_to_srgb, srgb_to_lab
+from .compositing import track_footprint
 from .params import Params
 from .path import resample_by_length, tangent_angles
 from .planning import plan_path
@@ -86,28 +87,27 @@ def detail_sources(reference: np.ndarray) -> ColourSources:
 
 
 def colour_jitter(rng: np.random.Generator, lightness: float, hue: float) -> tuple:
-    """One stroke's random colour change of Eq. 5: (gain (), offset (3,)), both float32.
+    """One stroke's random colour change of Eq. 5: (L* offset (), RGB offset (3,) float32).
 
-    gain = 1 + 2 U(-lightness, lightness) scales R, G and B alike, which
-    changes lightness (by about the amplitude at mid-gray) and keeps the
-    ratios of the channels, so the hue stays; when ``hue`` > 0, offset adds
-    U(-hue, hue) to each channel (hue jitter), else it is 0.
+    The lightness offset is 100 U(-lightness, lightness) CIELAB L* units (a*
+    and b* are kept, so hue and chroma stay); when ``hue`` > 0 the RGB offset
+    adds U(-hue, hue) to each channel (hue jitter), else it is 0.
     """
-    gain = np.float32(1.0 + 2.0 * rng.uniform(-lightness, lightness))
+    shift = 100.0 * rng.uniform(-lightness, lightness)
     offset = rng.uniform(-hue, hue, 3).astype(np.float32) if hue > 0 else np.zeros(3, np.float32)
-    return gain, offset
+    return shift, offset
 
 
 def bristle_colours(sources: ColourSources, anchor: tuple, angle: float, tip: BrushTip, alpha: float,
-                    deviation: float, jitter: tuple = (1.0, 0.0)) -> tuple:
+                    deviation: float, jitter: tuple = (0.0, 0.0)) -> tuple:
     """Eq. 5: ((B, 3) sRGB colour of every bristle of ``tip``, (3,) anchor colour).
 
     The brush is centred on ``anchor`` (x, y) and turned to ``angle`` (its
     along axis). C_anchor is ``sources.anchor`` at the anchor; each bristle
     samples ``sources.bristles`` under it (bilinear) and
-    C = gain (C_anchor + d) + offset, with d = alpha (C_bristle - C_anchor)
-    shortened to at most ``deviation`` (Euclidean RGB) and (gain, offset) the
-    stroke's ``jitter`` (``colour_jitter``), clipped to [0, 1]. So an anchor on
+    C = C_anchor + d, with d = alpha (C_bristle - C_anchor) shortened to at
+    most ``deviation`` (Euclidean RGB), then changed by the stroke's
+    ``jitter`` (``colour_jitter``: an L* offset, then an RGB offset), clipped to [0, 1]. So an anchor on
     a star or a glint neither tints the stroke nor drags it along as a scratch.
     """
     c, s = np.cos(angle), np.sin(angle)
@@ -117,8 +117,13 @@ def bristle_colours(sources: ColourSources, anchor: tuple, angle: float, tip: Br
     d = np.float32(alpha) * (sources.bristles.sample(x, y) - at_anchor)
     norm = np.sqrt(np.sum(d * d, axis=1, keepdims=True))
     d *= np.minimum(np.float32(1.0), np.float32(deviation) / np.maximum(norm, np.float32(1e-12)))
-    gain, offset = jitter
-    mixed = np.float32(gain) * (at_anchor + d) + offset
+    shift, offset = jitter
+    mixed = at_anchor + d
+    if shift:
+        lab = srgb_to_lab(mixed)
+        lab[:, 0] += shift
+        mixed = lab_to_srgb(lab)
+    mixed = mixed + offset
     return np.clip(mixed, 0.0, 1.0).astype(np.float32), at_anchor
 
 
@@ -159,22 +164,6 @@ def ridge_profile(across: np.ndarray, radius: float, ridge: float) -> np.ndarray
     return (1.0 + ridge * _smoothstep((t - 0.45) / 0.4)).astype(np.float32)
 
 
-def stamp_schedule(count: int, stride: int) -> tuple:
-    """Which of ``count`` samples (one px apart) get a stamp, and how many samples each stands for.
-
-    Every ``stride``-th sample from the first, and the last; returns (indices
-    (S,) int, repeat (S,) float32): ``stride`` for each stamp but the last,
-    which stands for the samples since the one before (1 for a one-sample path).
-    """
-    stamps = np.unique(np.append(np.arange(0, count, stride), count - 1))
-    repeat = np.full(len(stamps), float(stride), np.float32)
-    if len(stamps) > 1:
-        repeat[-1] = float(stamps[-1] - stamps[-2])
-    else:
-        repeat[-1] = 1.0
-    return stamps, repeat
-
-
 def paint_stroke(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchor: tuple, size: int,
                  layer: int, tip: BrushTip, rng: np.random.Generator, params: Params) -> Stroke:
     """Plan one stroke from ``anchor`` (x, y) with a brush ``size`` px wide, lay it on ``canvas``, return it.
@@ -187,19 +176,16 @@ def paint_stroke(canvas: Canvas, sources: ColourSources, orientation: np.ndarray
     jitter = colour_jitter(rng, params.perturbation, params.hue_perturbation)
     deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
     colours, anchor_colour = bristle_colours(sources, anchor, angle, tip, params.bristle_alpha, deviation, jitter)
-    brush_colour = (tip.intensity @ colours) / tip.intensity.sum()
+    brush_colour = np.einsum("b,bc->c", tip.intensity, colours) / tip.intensity.sum()
     plan = plan_path(anchor, size, orientation, canvas.colour, brush_colour, sources.reference, sources.edges,
                      params)
     samples, arc = resample_by_length(plan.samples, 1.0)
     angles = tangent_angles(samples, angle)
     rows = max(1.0, tip.length)
-    passes = max(1.0, MIN_ROWS / rows)
-    stamps, repeat = stamp_schedule(len(samples), stamp_stride(tip.length))
-    contact, relief = end_profile(arc[stamps], size, params.taper, params.lift_buildup)
-    footprint = stroke_footprint(samples[stamps], angles[stamps], tip.along, tip.across, tip.intensity, colours,
-                                 canvas.height.shape, repeat=repeat * passes, contact=contact, stamp_relief=relief,
-                                 bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height),
-                                 rows=rows * passes)
+    contact, relief = end_profile(arc, size, params.taper, params.lift_buildup)
+    footprint = track_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, canvas.height.shape,
+                                passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
+                                bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
     canvas.apply(footprint, params.height_mode, params.height_build)
     return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), plan.polyline(), anchor_colour)
 

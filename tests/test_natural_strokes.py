@@ -11,9 +11,10 @@ import pytest
 
 from core.brush import brush_tip, load_brush
 from core.canvas import Canvas
-from core.compositing import stroke_footprint
+from core.compositing import stroke_footprint, track_footprint
 from core.io import read_image
 from core.painting import paint
+from core.path import catmull_rom, resample_by_length, tangent_angles
 from core.params import Params
 from core.stroke import bristle_colours, colour_jitter, colour_sources, paint_stroke
 
@@ -240,3 +241,40 @@ def test_bundled_sample_strokes_are_long_clean_and_cover_the_canvas():
         on_corner += tuple(s.anchor) in corners
     assert on_corner < 0.05 * len(first)                           # ties broken by the generator
     assert math.isfinite(painting.statistics["psnr_db"]) and painting.statistics["psnr_db"] > 22
+
+
+# ---------------------------------------------------------------------------
+# column folding against the stamp-by-stamp reference
+
+
+@pytest.mark.parametrize("size", [4, 8, 16, 32])
+@pytest.mark.parametrize("bend", [0.0, 12.0])
+def test_folded_columns_match_stamping_bristle_by_bristle(flat, size, bend):
+    rng = np.random.default_rng(size)
+    tip = brush_tip(flat, size, 0.9)
+    colours = np.clip(np.array([0.5, 0.4, 0.3]) + rng.uniform(-0.08, 0.08, (len(tip), 3)), 0, 1).astype(np.float32)
+    t = np.linspace(0, 1, 6)
+    control = np.stack([40 + 120 * t, 60 + bend * 4 * t * (1 - t)], axis=1)
+    samples, _ = resample_by_length(catmull_rom(control)[0], 1.0)
+    angles = tangent_angles(samples, 0.0)
+    shape = (120, 200)
+    canvases = []
+    for fold in (False, True):
+        canvas = Canvas.blank(shape, (0.9, 0.9, 0.9))
+        if fold:
+            fp = track_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, shape,
+                                 rows=tip.length)
+        else:
+            fp = stroke_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, shape,
+                                  rows=tip.length)
+        canvas.apply(fp, "over", 0.5)
+        canvases.append(canvas)
+    stamped, folded = canvases
+    colour = np.abs(stamped.colour - folded.colour)
+    assert colour.mean() < 1 / 255 and np.percentile(colour, 99) < 8 / 255
+    if bend == 0.0:     # straight: every row of a column lands on its track, the same paint in all
+        np.testing.assert_allclose(folded.coverage, stamped.coverage, atol=1e-5)
+        np.testing.assert_allclose(folded.height, stamped.height, atol=1e-5)
+    else:
+        assert np.abs(folded.height - stamped.height).mean() < 0.01
+        assert abs(folded.coverage.sum() - stamped.coverage.sum()) < 0.02 * stamped.coverage.sum()

@@ -553,7 +553,7 @@ def test_grids_are_visited_largest_first():
 
 
 def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
-    from core.compositing import stamp_stride, stroke_footprint
+    from core.compositing import stroke_footprint
 
     sample = np.array([[5.0, 5.0]])
     angle = np.array([0.0])
@@ -566,4 +566,3 @@ def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
     np.testing.assert_allclose(thrice.transmittance, 0.4 ** 3, rtol=1e-6)
     np.testing.assert_allclose(thrice.paint, colour * (1 - 0.4 ** 3), rtol=1e-5)
     np.testing.assert_allclose(thrice.deposit, 3 * once.deposit)  # three coats of paint
-    assert [stamp_stride(n) for n in (1, 8, 12, 16, 64)] == [1, 1, 2, 2, 8]
