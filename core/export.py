@@ -47,6 +47,9 @@ def file_digests(folder: Path, names) -> dict:
 def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
+    The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
+    half keeps 1/2048 of the value, far finer than paint height or opacity vary).
+
     color.exr    RGB, scene-linear Rec.709 (the sRGB painting converted)
     height.exr   Y, paint height (1 = one full bristle's contact)
     opacity.exr  Y, stroke opacity in [0, 1]
@@ -64,13 +67,13 @@ def write_painting(folder: Path, painting: Painting, source: str) -> dict:
     folder = Path(folder)
     t0 = time.perf_counter()
     attributes = map_attributes(painting)
-    io.write_exr(folder / "color.exr", srgb_to_linear(painting.colour), attributes=attributes)
-    io.write_exr(folder / "height.exr", painting.height, channels=("Y",), attributes=attributes)
-    io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), attributes=attributes)
-    io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), attributes=attributes)
+    io.write_exr(folder / "color.exr", srgb_to_linear(painting.colour), half=True, attributes=attributes)
+    io.write_exr(folder / "height.exr", painting.height, channels=("Y",), half=True, attributes=attributes)
+    io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), half=True, attributes=attributes)
+    io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), half=True, attributes=attributes)
     normal_attributes = dict(attributes, **{"paint_relief:normal_relief": float(DEFAULT_RELIEF),
                                             "paint_relief:normal_encoding": "n*0.5+0.5, OpenGL (Y up)"})
-    io.write_exr(folder / "normal.exr", encode_normals(normal_map(painting.height, DEFAULT_RELIEF)),
+    io.write_exr(folder / "normal.exr", encode_normals(normal_map(painting.height, DEFAULT_RELIEF)), half=True,
                  attributes=normal_attributes)
     io.write_png(folder / "painting.png", painting.colour)
     io.write_png(folder / "lit_paper.png",

@@ -448,6 +448,10 @@ def write_exr(path: PathLike, data: np.ndarray, channels: Optional[Sequence[str]
     _write_with_oiio(path, spec, pixels)
 
 
+PNG_COMPRESSION = 3
+"""zlib level of the PNGs: level 3 is several times faster than the highest and the files about 10 % larger."""
+
+
 def write_png(path: PathLike, data: np.ndarray, bits: int = 8) -> None:
     """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` in [0, 1] as an 8- or 16-bit PNG.
 
@@ -469,6 +473,7 @@ def write_png(path: PathLike, data: np.ndarray, bits: int = 8) -> None:
     if pixels.shape[2] == 4:
         spec.attribute("oiio:UnassociatedAlpha", 1)
     spec.attribute("DateTime", "")
+    spec.attribute("png:compressionLevel", PNG_COMPRESSION)
     _write_with_oiio(pathlib.Path(path), spec, quantised)
 
 
