@@ -231,10 +231,14 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     Eq. 4. The track is sampled every px of arc, each sample folding the rows
     whose stamps exist there (all of them inside the stroke, fewer at its
     ends), then splatted like a bristle (see the module docstring). This lays
-    R times fewer contributions for a brush R rows long. On a curved path a
-    track follows the path's normal at its own arc length, which differs
-    from stamping by the brush's turn over its own length; the contact and
-    relief of a track sample are the path's at its arc length.
+    R times fewer contributions for a brush R rows long. The few track
+    samples that meet at a pixel (neighbouring columns and arc positions of
+    one stroke, whose colours are close) lay their paint together, mixed by
+    the optical depth each lays, so no sort is needed; the order of Eq. 4 is
+    kept between strokes and, through the fold, between a column's rows. On
+    a curved path a track follows the path's normal at its own arc length,
+    which differs from stamping by the brush's turn over its own length; the
+    contact and relief of a track sample are the path's at its arc length.
     """
     h, w = shape
     n_samples = len(samples)
@@ -288,39 +292,31 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     ix, iy, weight = bilinear_splat(x.ravel()[keys], y.ravel()[keys], shape)
     weight *= span.ravel()[keys][:, None]
     inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h) & (weight > 0)
-    contribution = np.flatnonzero(inside.ravel()).astype(np.int32)
+    contribution = np.flatnonzero(inside.ravel())
     if contribution.size == 0:
         return Footprint.empty()
     ix = ix.ravel()[contribution]
     iy = iy.ravel()[contribution]
     x0, y0 = int(ix.min()), int(iy.min())
-    box_w = int(ix.max()) - x0 + 1
-    local = (iy - y0) * np.int32(box_w) + (ix - x0)
-    order = np.argsort(local, kind="stable")
-    contribution = contribution[order]
-    local = local[order]
+    box_w, box_h = int(ix.max()) - x0 + 1, int(iy.max()) - y0 + 1
+    local = (iy - y0) * box_w + (ix - x0)
     point = keys[contribution >> 2]                                                         # (track sample, column)
-    weight = weight.ravel()[contribution].astype(np.float64)
+    weight = weight.ravel()[contribution]
 
-    new_pixel = np.empty(len(local), dtype=bool)
-    new_pixel[0] = True
-    np.not_equal(local[1:], local[:-1], out=new_pixel[1:])
-    starts = np.flatnonzero(new_pixel)
-    ends = np.append(starts[1:], len(local))
-    counts = ends - starts
-
-    point_log = log_total.ravel().astype(np.float64)[point]
-    log_keep_c = weight * point_log
-    cumulative = np.cumsum(log_keep_c)
-    later = np.exp(np.repeat(cumulative[ends - 1], counts) - cumulative)
-    # a fold (P, T) applied with weight w: transmittance T^w and paint P (1 - T^w) / (1 - T)
-    share = (-np.expm1(log_keep_c) / -np.expm1(point_log) * later).astype(np.float32)
-    colour_paint = np.add.reduceat(share[:, None] * paint.reshape(-1, 3)[point], starts, axis=0)
-    transmittance = np.exp(cumulative[ends - 1] - (cumulative[starts] - log_keep_c[starts]))
-    laid_c = weight.astype(np.float32) * laid.ravel()[point]
-    deposit = np.add.reduceat(laid_c, starts)
+    # The tracks meeting at a pixel lay their paint together, mixed by the optical depth each lays.
+    depth = -weight * log_total.ravel()[point]
+    colour_point = paint.reshape(-1, 3)[point] / (-np.expm1(log_total.ravel()[point]))[:, None]
+    bins = box_w * box_h
+    total_depth = np.bincount(local, depth, bins)
+    laid_c = weight * laid.ravel()[point]
+    deposit = np.bincount(local, laid_c, bins)
+    used = np.flatnonzero((total_depth > 0) | (deposit > 0))
+    total_depth = total_depth[used]
+    mixed = np.stack([np.bincount(local, depth * colour_point[:, ch], bins)[used] for ch in range(3)], axis=1)
+    transmittance = np.exp(-total_depth)
+    colour_paint = mixed * ((1.0 - transmittance) / np.maximum(total_depth, 1e-30))[:, None]
     gain = ridge[point % n_columns] * build[point // n_columns]
-    height = np.add.reduceat(laid_c * gain, starts)
-    pixels = (local[starts] // box_w + y0) * np.int32(w) + (local[starts] % box_w + x0)
+    height = np.bincount(local, laid_c * gain, bins)[used]
+    pixels = (used // box_w + y0) * w + (used % box_w + x0)
     return Footprint(pixels.astype(np.int32), transmittance, colour_paint.astype(np.float32),
-                     deposit.astype(np.float32), height.astype(np.float32))
+                     deposit[used].astype(np.float32), height.astype(np.float32))
