@@ -26,7 +26,7 @@ Steps, each printed with its time:
 4. renders: for every azimuth, ``OUTDIR/renders/relief_AAA.exr`` and, with
    the relief switched off, ``flat_AAA.exr`` (``addon/compare.py``);
 5. ``OUTDIR/scene.blend``;
-6. ``core.comparison.run_comparison`` writes comparison.json, comparison.md,
+6. ``core.evaluation.comparison.run_comparison`` writes comparison.json, comparison.md,
    comparison.png, correlation.png and light_sweep.gif into OUTDIR.
 
 Azimuths are degrees in the image from +x (right) towards +y (down): 0 =

@@ -14,7 +14,7 @@ import argparse
 from common import median_runs, peak_mib, photo
 
 from core import Params
-from core.painting import paint
+from core.methods import paint
 
 
 def main() -> None:

@@ -14,14 +14,15 @@ import time
 from pathlib import Path
 from typing import List, Optional
 
-from . import budget, io, quiet, signals
-from .analysis import Analysis, analyze
+from .files import budget, io, quiet, signals
+from .analysis.run import analyze
 from .errors import Cancelled, PaintReliefError, ParameterError
 from .params import STYLE_NAMES, Params
 from .progress import ConsoleProgress
-from .staging import output_folder
+from .results import Analysis
+from .files.staging import output_folder
 from .version import __version__
-from .visualize import orientation_picture, partition_overlay
+from .figures.visualize import orientation_picture, partition_overlay
 
 DEFAULTS = Params()
 
@@ -302,7 +303,7 @@ def _add_experiments_parser(sub) -> None:
 
 def run_experiments_command(args: argparse.Namespace, progress) -> None:
     """The ``experiments`` subcommand."""
-    from .experiments import run_experiments
+    from .evaluation.experiments import run_experiments
 
     params = Params(detail=args.detail, seed=args.seed, max_megapixels=args.max_megapixels).validate()
     run_experiments([Path(p) for p in args.images], Path(args.output), params, progress=progress,

@@ -1,4 +1,4 @@
-"""Tests of core.brush: shipped brush maps, loading user brushes, brush tips."""
+"""Tests of core.strokes.brush: shipped brush maps, loading user brushes, brush tips."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from core.brush import (
+from core.strokes.brush import (
     SHIPPED_BRUSHES, BrushTip, brush_tip, crop_to_bristles, load_brush, procedural_brush,
     resize_map, tip_cache, tip_length,
 )

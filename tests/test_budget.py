@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core import budget, io
+from core.files import budget, io
 from core.errors import InputError, ParameterError
 
 REPO = Path(__file__).resolve().parent.parent

@@ -12,7 +12,7 @@ from core.params import Params
 import OpenImageIO as oiio
 import pytest
 
-from core import io
+from core.files import io
 from core.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent

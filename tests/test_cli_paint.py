@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from core import io
+from core.files import io
 from core.cli import main
 from core.colour import srgb_to_linear
 

@@ -4,7 +4,7 @@ import csv
 
 import numpy as np
 
-from core import io
+from core.files import io
 from core.cli import main
 
 

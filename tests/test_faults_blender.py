@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core import io
+from core.files import io
 from core.cli import main
 
 REPO = Path(__file__).resolve().parent.parent

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from core.gif import palette, quantise, write_gif
+from core.figures.gif import palette, quantise, write_gif
 
 
 def lzw_decode(data: bytes, min_code_size: int, count: int) -> np.ndarray:

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from core.importance import (bilateral_filter, importance_map, normalise_energy, reference_image,
+from core.analysis.importance import (bilateral_filter, importance_map, normalise_energy, reference_image,
                              resize_mask, sobel_energy)
 
 

@@ -1,4 +1,4 @@
-"""Tests of the orientation field (core/orientation.py, ALGORITHM §4, Eq. 3)."""
+"""Tests of the orientation field (core/analysis/orientation.py, ALGORITHM §4, Eq. 3)."""
 
 import math
 
@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import RBFInterpolator
 
-from core.orientation import (
+from core.analysis.orientation import (
     blend_orientations,
     gradient_normal,
     key_points,

@@ -1,4 +1,4 @@
-"""Tests of core/partition.py: Eq. 2 cuts, splitting rules, the tiling invariant."""
+"""Tests of core/analysis/partition.py: Eq. 2 cuts, splitting rules, the tiling invariant."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from core.errors import InputError, ParameterError
-from core.partition import (
+from core.analysis.partition import (
     DEFAULT_DELTA,
     best_cut,
     cut_costs,

@@ -69,7 +69,7 @@ def main(zip_path, work):
     from importlib import import_module
 
     core = import_module(MODULE + ".core")
-    io = import_module(MODULE + ".core.io")
+    io = import_module(MODULE + ".core.files.io")
     import numpy as np
 
     photo = os.path.join(work, "photo.png")
@@ -121,7 +121,7 @@ def main(zip_path, work):
         sheet_path = os.path.join(folder, "comparison.png")
         found = {"result": result, "error": error, "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else []}
         if os.path.isfile(sheet_path):
-            sheet_module = import_module(MODULE + ".core.sheet")
+            sheet_module = import_module(MODULE + ".core.figures.sheet")
             sheet = io.read_image(sheet_path)
             # The first row of labels: the strip between the top gap and the first pictures.
             strip = sheet[6:6 + 24, 6:200]

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from . import io
-from .colour import srgb_to_linear
-from .lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
-from .painting import Painting
-from .version import __version__
+from ..colour import srgb_to_linear
+from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
+from ..results import Painting
+from ..version import __version__
 
 
 def map_attributes(painting: Painting) -> dict:

@@ -17,7 +17,7 @@ import pathlib
 from typing import Dict, Sequence, Tuple
 
 from . import io
-from .errors import InputError
+from ..errors import InputError
 from .staging import settle
 
 EXPECTED_CHANNELS = {

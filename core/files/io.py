@@ -20,9 +20,9 @@ import numpy as np
 import OpenImageIO as oiio
 
 from . import quiet
-from .colour import linear_to_srgb, luminance
-from .errors import InputError, OutputError
-from .params import CANVAS_COLOUR
+from ..colour import linear_to_srgb, luminance
+from ..errors import InputError, OutputError
+from ..params import CANVAS_COLOUR
 
 PathLike = Union[str, os.PathLike]
 

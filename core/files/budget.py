@@ -16,7 +16,7 @@ import pathlib
 import re
 from typing import Optional
 
-from .errors import InputError, ParameterError
+from ..errors import InputError, ParameterError
 
 # Bytes per pixel of the arrays alive at a run's peak (float32 unless said).
 PER_PIXEL = {
@@ -118,7 +118,7 @@ def format_bytes(n: float) -> str:
 
 def check_stroke_sizes(params, height: int, width: int) -> None:
     """ParameterError when a stroke size, scaled to this image, is wider than the image's longer side."""
-    from .params import scaled_sizes
+    from ..params import scaled_sizes
 
     longest = max(int(height), int(width))
     widest = max(scaled_sizes(params, height, width))

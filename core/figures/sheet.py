@@ -28,7 +28,7 @@ def fit_height(image: np.ndarray, height: int) -> np.ndarray:
 
 
 def label_strip(text: str, width: int, height: int) -> np.ndarray:
-    """float32 (height, width, 3) strip with ``text`` written in it (the painter's bitmap font, core/text.py)."""
+    """float32 (height, width, 3) strip with ``text`` written in it (the painter's bitmap font, core/figures/text.py)."""
     strip = np.empty((height, width, 3), np.float32)
     strip[...] = BACKGROUND
     size = max(8, int(height * 0.62))

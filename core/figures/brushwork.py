@@ -7,7 +7,7 @@ from typing import Sequence, Tuple
 
 import numpy as np
 
-from .lighting import bump_lighting
+from ..lighting import bump_lighting
 from .sheet import contact_sheet
 
 RAKING_ELEVATION = math.radians(20.0)

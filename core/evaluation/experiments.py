@@ -17,15 +17,16 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from . import io
-from .lighting import bump_lighting, paper_lighting
-from .metrics import edge_fidelity, psnr, ssim
-from .painting import Painting, paint
-from .errors import ParameterError
-from .params import Params
-from .progress import CancelFn, ProgressFn, Stage
-from .sheet import contact_sheet
-from .visualize import partition_overlay
+from ..files import io
+from ..lighting import bump_lighting, paper_lighting
+from ..measures.metrics import edge_fidelity, psnr, ssim
+from ..methods.registry import paint
+from ..results import Painting
+from ..errors import ParameterError
+from ..params import Params
+from ..progress import CancelFn, ProgressFn, Stage
+from ..figures.sheet import contact_sheet
+from ..figures.visualize import partition_overlay
 
 METHODS = {
     "ours": ("Huang et al. 2011", {}),
@@ -147,8 +148,8 @@ def run_experiments(paths: Sequence[Path], out_dir: Path, params: Params, progre
     Every image is checked (names, headers, memory; see ``api.check_input``)
     before any work and before ``out_dir`` is created.
     """
-    from .api import check_input
-    from .staging import output_folder
+    from ..api import check_input
+    from ..files.staging import output_folder
 
     params.validate()
     paths = [Path(p) for p in paths]

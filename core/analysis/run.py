@@ -4,58 +4,28 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
-from typing import Dict, Optional, Tuple
+from typing import Dict, Optional
 
 import numpy as np
 
-from .colour import luminance
+from ..colour import luminance
+from ..errors import InputError
 from .importance import importance_map, reference_image
 from .orientation import orientation_field
-from .params import Params, scaled_sizes
+from ..params import Params, scaled_sizes
 from .partition import detail_threshold, nearest_size, partition
-from .progress import CancelFn, ProgressFn, Stage
+from ..progress import CancelFn, ProgressFn, Stage
+from ..results import Analysis
 
 
-@dataclass
-class Analysis:
-    """Everything the stroke layout needs to know about an (H, W) image.
-
-    reference:   float32 (H, W, 3) sRGB [0, 1], bilateral-filtered input.
-    intensity:   float32 (H, W) [0, 1], luminance of the reference.
-    importance:  float32 (H, W) [0, 1], normalised Sobel energy Ẽ (Eq. 1).
-    grids:       int32 (N, 4) rows (x0, y0, x1, y1), half-open, tiling the canvas.
-    grid_sizes:  int32 (N,) standard stroke size (px) of each grid.
-    orientation: float32 (H, W) [0, pi), stroke direction (Eq. 3).
-    sizes:       standard stroke sizes (px) scaled to this image, descending.
-    seconds:     wall-clock seconds of each stage.
-    """
-
-    reference: np.ndarray
-    intensity: np.ndarray
-    importance: np.ndarray
-    grids: np.ndarray
-    grid_sizes: np.ndarray
-    orientation: np.ndarray
-    sizes: Tuple[int, ...]
-    seconds: Dict[str, float] = field(default_factory=dict)
-
-    def summary(self) -> dict:
-        """JSON-ready figures: grid count, histogram of grid sizes, seconds per stage."""
-        counts = {int(s): int(np.count_nonzero(self.grid_sizes == s)) for s in self.sizes}
-        areas = (self.grids[:, 2] - self.grids[:, 0]) * (self.grids[:, 3] - self.grids[:, 1])
-        h, w = self.importance.shape
-        return {
-            "width": int(w),
-            "height": int(h),
-            "grids": int(len(self.grids)),
-            "stroke_sizes_px": list(self.sizes),
-            "grids_per_stroke_size": counts,
-            "grid_area_px": {
-                "min": int(areas.min()), "median": float(np.median(areas)), "max": int(areas.max()),
-            },
-            "seconds": {k: round(v, 4) for k, v in self.seconds.items()},
-        }
+def check_image(image: np.ndarray) -> np.ndarray:
+    """The image as float32 (H, W, 3) in [0, 1]; InputError for any other shape or non-finite values."""
+    a = np.asarray(image, dtype=np.float32)
+    if a.ndim != 3 or a.shape[2] != 3 or a.shape[0] < 1 or a.shape[1] < 1:
+        raise InputError(f"The image must be an (H, W, 3) array with H, W >= 1, got shape {a.shape}.")
+    if not np.all(np.isfinite(a)):
+        raise InputError("The image holds NaN or infinite values.")
+    return np.clip(a, 0.0, 1.0)
 
 
 def analyze(image: np.ndarray, params: Params, mask: Optional[np.ndarray] = None,

@@ -25,8 +25,8 @@ from typing import Optional
 
 import numpy as np
 
-from .colour import linear_to_srgb, srgb_to_linear
-from .errors import ParameterError
+from ..colour import linear_to_srgb, srgb_to_linear
+from ..errors import ParameterError
 
 MODELS = ("paper", "directional", "bump")
 

@@ -19,7 +19,7 @@ import os
 import pathlib
 from typing import Optional
 
-from .errors import OutputError
+from ..errors import OutputError
 
 LOCK_NAME = ".paint-relief.lock"
 

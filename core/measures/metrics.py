@@ -11,7 +11,7 @@ import math
 import numpy as np
 from scipy import ndimage
 
-from .colour import luminance
+from ..colour import luminance
 
 
 def psnr(a: np.ndarray, b: np.ndarray) -> float:

@@ -1,56 +1,25 @@
-"""The painter's entry point: ``paint(image, params) -> Painting`` (ALGORITHM §3, §5, §6)."""
+"""The paper's painter, Huang, Fu and Li 2011: ``paint(image, params) -> Painting`` (ALGORITHM §3, §5, §6)."""
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
 import numpy as np
 
-from .analysis import Analysis, analyze
-from .brush import load_brush, tip_cache
-from .canvas import Canvas
-from .errors import InputError
-from .layout import choose_anchor, grid_order, hertzmann_anchors
-from .metrics import psnr
-from .params import Params
-from .progress import CancelFn, ProgressFn, Stage
-from .details import detail_anchors, size_map
-from .stroke_metrics import stroke_shape
-from .stroke import ColourSources, Stroke, colour_sources, detail_sources, paint_stroke
-from .version import __version__
-
-
-@dataclass
-class Painting:
-    """A finished painting of an (H, W) image.
-
-    colour (H, W, 3) sRGB [0, 1]; height (H, W) >= 0 (1 = one full bristle's
-    contact); opacity and coverage (H, W) [0, 1]; orientation (H, W) radians
-    [0, pi); strokes in painting order; analysis the maps it was built on;
-    statistics the figures of ``report.json``.
-    """
-
-    colour: np.ndarray
-    height: np.ndarray
-    opacity: np.ndarray
-    coverage: np.ndarray
-    orientation: np.ndarray
-    strokes: List[Stroke]
-    analysis: Analysis
-    params: Params
-    statistics: Dict = field(default_factory=dict)
-
-
-def check_image(image: np.ndarray) -> np.ndarray:
-    """The image as float32 (H, W, 3) in [0, 1]; InputError for any other shape or non-finite values."""
-    a = np.asarray(image, dtype=np.float32)
-    if a.ndim != 3 or a.shape[2] != 3 or a.shape[0] < 1 or a.shape[1] < 1:
-        raise InputError(f"The image must be an (H, W, 3) array with H, W >= 1, got shape {a.shape}.")
-    if not np.all(np.isfinite(a)):
-        raise InputError("The image holds NaN or infinite values.")
-    return np.clip(a, 0.0, 1.0)
+from ..analysis.run import analyze, check_image
+from ..measures.metrics import psnr
+from ..measures.stroke_metrics import stroke_shape
+from ..params import Params
+from ..progress import CancelFn, ProgressFn, Stage
+from ..results import Analysis, Painting
+from ..strokes.brush import load_brush, tip_cache
+from ..strokes.canvas import Canvas
+from ..strokes.details import detail_anchors, size_map
+from ..strokes.layout import choose_anchor, grid_order, hertzmann_anchors
+from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources, paint_stroke
+from ..version import __version__
+from .styles import get_style
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
@@ -61,9 +30,6 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     between strokes and raises Cancelled when it returns True.
     """
     params.validate()
-    if params.method == "hertzmann98":
-        from .hertzmann import paint_hertzmann
-        return paint_hertzmann(image, params, params.style, progress=progress, cancel=cancel, mask=mask)
     image = check_image(image)
     stage = Stage(progress, cancel)
     brush = load_brush(params.brush)
@@ -111,7 +77,7 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: dict,
                   sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
-    """The detail pass: strokes of the smallest brush on small features the layers missed (``core.details``).
+    """The detail pass: strokes of the smallest brush on small features the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
     reference: an edge-preserving denoise halves the contrast of features a
@@ -182,8 +148,6 @@ def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sou
     the canvas at the start of the layer; each stroke's path is planned when
     it is painted. Returns (strokes, strokes per layer).
     """
-    from .hertzmann import get_style
-
     style = get_style(params.style)
     rng = np.random.default_rng(params.seed)
     reference = analysis.reference

@@ -27,7 +27,7 @@ from typing import Dict, Iterable, Union
 import numpy as np
 from scipy import ndimage
 
-from .errors import InputError, ParameterError
+from ..errors import InputError, ParameterError
 
 SHIPPED_BRUSHES = ("flat", "round", "filbert")
 
@@ -157,7 +157,7 @@ def load_brush(spec: PathLike, max_megapixels: float = 1.0) -> np.ndarray:
     if not text.strip() or not path.exists():
         raise ParameterError(
             f"Brush {text!r} is neither a shipped brush ({', '.join(SHIPPED_BRUSHES)}) nor an existing image file.")
-    from .io import read_gray  # OpenImageIO loads only when a brush file is used
+    from ..files.io import read_gray  # OpenImageIO loads only when a brush file is used
     values = read_gray(path, max_megapixels=max_megapixels)
     if not np.any(values > 0):
         raise InputError(f"Brush image {path} has no bristles: every pixel is black.")

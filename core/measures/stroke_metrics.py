@@ -12,7 +12,7 @@ from typing import Sequence
 import numpy as np
 from scipy import ndimage
 
-from .colour import srgb_to_lab
+from ..colour import srgb_to_lab
 
 
 def stroke_shape(strokes: Sequence) -> dict:

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .params import Params
+from ..params import Params
 from .path import axial_difference, catmull_rom, clip_path, first_failure, trace_control_points
 from .smoothing import SmoothedImage
 

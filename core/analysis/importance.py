@@ -12,7 +12,7 @@ import math
 import numpy as np
 from scipy import ndimage
 
-from .colour import luminance
+from ..colour import luminance
 
 
 def bilateral_filter(image: np.ndarray, sigma_spatial: float, sigma_range: float) -> np.ndarray:

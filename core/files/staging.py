@@ -40,7 +40,7 @@ import shutil
 from typing import Iterator, List, Optional
 
 from . import folderlock, signals
-from .errors import OutputError
+from ..errors import OutputError
 
 STAGING_PREFIX = ".staging-"
 JOURNAL_NAME = ".paint-relief-commit.json"

@@ -8,7 +8,7 @@ Coarse-to-fine layers, one per brush radius R (largest first):
    first layer covers everything;
 3. the canvas is tiled by cells of f_g R px; a cell whose mean error is above
    T gets a stroke anchored at its pixel of maximum error
-   (``core.layout.hertzmann_anchors``);
+   (``core.strokes.layout.hertzmann_anchors``);
 4. every stroke of the layer is planned against the canvas as it was at the
    start of the layer (as painterJava does), then they are painted in a
    random (seeded) order.
@@ -26,7 +26,7 @@ then jittered as painterJava does: hue, saturation and value (HSV) each get
 j (U - 1/2), RGB components j (U - 1/2), clipped (hue wraps).
 
 A stroke is rendered as a solid anti-aliased round-capped line of radius R
-along its control-point polyline with opacity alpha (``core.stroke.solid_stroke``:
+along its control-point polyline with opacity alpha (``core.strokes.stroke.solid_stroke``:
 colour, coverage, height, opacity, orientation).
 
 Radii are given at 512 x 512 px and scale with the image:
@@ -40,77 +40,28 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy import ndimage
 
-from .analysis import analyze
-from .canvas import Canvas
-from .errors import ParameterError
-from .layout import hertzmann_anchors
-from .params import STYLE_NAMES, Params
-from .progress import CancelFn, ProgressFn, Stage
-from .stroke import Stroke, solid_stroke
-from .stroke_metrics import stroke_shape
-from .version import __version__
+from ..analysis.run import analyze, check_image
+from ..measures.metrics import psnr
+from ..measures.stroke_metrics import stroke_shape
+from ..params import Params
+from ..progress import CancelFn, ProgressFn, Stage
+from ..results import Painting
+from ..strokes.canvas import Canvas
+from ..strokes.layout import hertzmann_anchors
+from ..strokes.stroke import Stroke, solid_stroke
+from ..version import __version__
+from .styles import HertzmannStyle, get_style
 
 REFERENCE_SIDE = 512
 """Radii of a style are for an image of REFERENCE_SIDE x REFERENCE_SIDE pixels."""
 
 HERTZMANN_LUMA = np.array([0.30, 0.59, 0.11], dtype=np.float32)
-
-
-@dataclass(frozen=True)
-class HertzmannStyle:
-    """The parameters of a Hertzmann 1998 style (the paper's Section 4 names).
-
-    threshold: T, mean cell error (Euclidean RGB, 0-255) above which a cell gets a stroke.
-    radii: brush radii R_i (px at 512 x 512), largest first.
-    curvature: f_c, IIR filter of the stroke direction (1 = no filter).
-    blur: f_sigma, reference blur sigma = f_sigma R.
-    alpha: stroke opacity a in (0, 1].
-    grid: f_g, grid spacing = f_g R.
-    min_length, max_length: control points after the anchor (0, 0 = dabs).
-    jitter_hue, jitter_saturation, jitter_value: HSV jitter amplitudes j (a
-    component moves by j (U - 1/2)); jitter_rgb: the same for R, G and B.
-    """
-
-    threshold: float = 100.0
-    radii: Tuple[float, ...] = (8.0, 4.0, 2.0)
-    curvature: float = 1.0
-    blur: float = 0.5
-    alpha: float = 1.0
-    grid: float = 1.0
-    min_length: int = 4
-    max_length: int = 16
-    jitter_hue: float = 0.0
-    jitter_saturation: float = 0.0
-    jitter_value: float = 0.0
-    jitter_rgb: float = 0.0
-
-
-STYLES: Dict[str, HertzmannStyle] = {
-    # T=100 R=8,4,2 f_c=1 f_sigma=.5 a=1 f_g=1 len 4-16
-    "impressionist": HertzmannStyle(),
-    # T=50 R=8,4,2 f_c=.25 f_sigma=.5 a=.7 f_g=1 len 10-16 j_v=.5
-    "expressionist": HertzmannStyle(threshold=50.0, curvature=0.25, alpha=0.7, min_length=10, jitter_value=0.5),
-    # T=200 R=8,4,2 f_c=1 f_sigma=.5 a=.5 f_g=1 len 4-16 j_r=j_g=j_b=.3
-    "colorist_wash": HertzmannStyle(threshold=200.0, alpha=0.5, jitter_rgb=0.3),
-    # T=100 R=4,2 f_c=1 f_sigma=.5 a=1 f_g=.5 len 0-0 j_v=1 j_h=.3 (the paper's Pointillist entry)
-    "pointillist": HertzmannStyle(radii=(4.0, 2.0), grid=0.5, min_length=0, max_length=0,
-                                  jitter_value=1.0, jitter_hue=0.3),
-}
-assert tuple(STYLES) == STYLE_NAMES
-
-
-def get_style(name: str) -> HertzmannStyle:
-    """The named style ('colorist-wash' is accepted for 'colorist_wash'); ParameterError otherwise."""
-    key = str(name).strip().lower().replace("-", "_")
-    if key not in STYLES:
-        raise ParameterError(f"Unknown style {name!r}; choose impressionist, expressionist, colorist_wash or pointillist.")
-    return STYLES[key]
 
 
 def scaled_radii(radii, height: int, width: int, reference_megapixels: float = 1.0) -> Tuple[float, ...]:
@@ -240,7 +191,7 @@ def canvas_error(canvas: Canvas, reference: np.ndarray) -> np.ndarray:
 
 def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressionist", progress: ProgressFn = None,
                     cancel: CancelFn = None, mask: Optional[np.ndarray] = None):
-    """Paint an (H, W, 3) sRGB [0, 1] image by Hertzmann 1998 in the named style; returns a core.painting.Painting.
+    """Paint an (H, W, 3) sRGB [0, 1] image by Hertzmann 1998 in the named style; returns a core.results.Painting.
 
     The Painting's analysis is core.analysis.analyze's (importance, partition,
     orientation of the paper's method, for the record); its orientation map is
@@ -248,8 +199,6 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
     least half its opacity), the analysis orientation elsewhere. Statistics
     carry core.paint's keys plus method, style, layout, renderer and radii_px.
     """
-    from .painting import check_image, psnr
-
     params.validate()
     chosen = get_style(style)
     style_name = str(style).strip().lower().replace("-", "_")
@@ -319,6 +268,11 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
         "hertzmann_style": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(chosen).items()},
     }
     stage.report(1.0, f"Painted {len(strokes)} strokes")
-    from .painting import Painting
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, orientation, strokes, analysis,
                     params, statistics)
+
+
+def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
+          mask: Optional[np.ndarray] = None) -> Painting:
+    """The registry's painter: ``paint_hertzmann`` in the style ``params.style``."""
+    return paint_hertzmann(image, params, params.style, progress=progress, cancel=cancel, mask=mask)
