@@ -244,7 +244,7 @@ def compare(core_package, painting_dir, renders_dir, azimuths_deg, elevation_deg
     import importlib
     import inspect
 
-    comparison = importlib.import_module(core_package.__name__ + ".comparison")
+    comparison = importlib.import_module(core_package.__name__ + ".evaluation.comparison")
     kwargs = {"progress": progress}
     if relief_px is not None and "relief_px" in inspect.signature(comparison.run_comparison).parameters:
         kwargs["relief_px"] = float(relief_px)

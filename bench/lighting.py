@@ -14,8 +14,8 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-from common import median_runs, peak_mib, photo
 
+from common import median_runs, peak_mib, photo
 from core import lighting
 
 

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 
 from common import median_runs, peak_mib, photo
-
 from core import Params
 from core.methods import paint
 

@@ -31,8 +31,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from core.files import io  # noqa: E402
 from core.errors import InputError  # noqa: E402
+from core.files import io  # noqa: E402
 from core.files.maps import check_painting  # noqa: E402
 from core.files.staging import JOURNAL_NAME, STAGING_PREFIX, settle  # noqa: E402
 

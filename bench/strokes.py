@@ -16,14 +16,19 @@ from __future__ import annotations
 import argparse
 
 from common import ROOT
-
 from core import Params
-from core.files import io
 from core.figures.brushwork import brushwork_sheet
+from core.files import io
 from core.measures.metrics import psnr
+from core.measures.stroke_metrics import (
+    area_share_elongated,
+    crack_share,
+    height_spread,
+    highlights_kept,
+    smooth_colour_error,
+    stroke_shape,
+)
 from core.methods import paint
-from core.measures.stroke_metrics import (area_share_elongated, crack_share, height_spread, highlights_kept,
-                                 smooth_colour_error, stroke_shape)
 
 SAMPLES = ("coffee", "chelsea", "astronaut")
 FIGURE_BOX = {"coffee": (250, 110, 490, 350)}  # (x0, y0, x1, y1) px: the cup's rim, handle and spoon

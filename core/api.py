@@ -5,11 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional
 
-from .files import budget, io
 from .errors import InputError, PaintReliefError
+from .files import budget, io
+from .files.staging import output_folder
 from .params import Params
 from .progress import CancelFn, ProgressFn
-from .files.staging import output_folder
 
 
 def check_input(input_path, params: Params, mask_path: Optional[str] = None,

@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 from addon_values import values
 
-from core.files import io
 from core.colour import linear_to_srgb, luminance, srgb_to_linear
+from core.files import io
 from core.lighting import bump_lighting, directional_lighting, paper_lighting
 from core.measures.metrics import pearson
 

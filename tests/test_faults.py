@@ -25,18 +25,17 @@ import OpenImageIO as oiio
 import pytest
 from addon_values import values
 
-from core.files import io
 from core.api import paint_file
 from core.cli import main
 from core.errors import InputError
+from core.files import io
 from core.files.maps import check_maps, check_painting
-from core.params import Params
 from core.files.staging import JOURNAL_NAME, STAGING_PREFIX, recover, settle
+from core.params import Params
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "bench"))
 from stress_kill import stress  # noqa: E402
-
 
 # --- helpers ------------------------------------------------------------------------------------------------------
 

@@ -7,16 +7,16 @@ import json
 import numpy as np
 import pytest
 
-from core.files import io
-from core.strokes.canvas import Canvas
 from core.cli import main
 from core.errors import ParameterError
+from core.files import io
 from core.methods import paint
 from core.methods.hertzmann98 import paint_hertzmann, scaled_radii
 from core.methods.styles import STYLES, get_style
-from core.strokes.layout import hertzmann_anchors
-from core.results import Painting
 from core.params import Params
+from core.results import Painting
+from core.strokes.canvas import Canvas
+from core.strokes.layout import hertzmann_anchors
 from core.strokes.stroke import solid_stroke
 
 

@@ -9,9 +9,9 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from core.files import io
 from core.colour import luminance
 from core.errors import InputError, OutputError
+from core.files import io
 
 CANVAS = (0.93, 0.90, 0.84)
 

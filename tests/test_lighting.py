@@ -11,11 +11,11 @@ import shutil
 import numpy as np
 import pytest
 
-from core.lighting import models as lighting
-from core.files import io
 from core.cli import main
 from core.colour import linear_to_srgb, srgb_to_linear
 from core.errors import ParameterError
+from core.files import io
+from core.lighting import models as lighting
 
 H, W = 12, 16
 

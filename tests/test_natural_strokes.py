@@ -9,12 +9,12 @@ import pathlib
 import numpy as np
 import pytest
 
-from core.strokes.brush import brush_tip, load_brush
-from core.strokes.canvas import Canvas
-from core.strokes.compositing import stroke_footprint
 from core.files.io import read_image
 from core.methods import paint
 from core.params import Params
+from core.strokes.brush import brush_tip, load_brush
+from core.strokes.canvas import Canvas
+from core.strokes.compositing import stroke_footprint
 from core.strokes.stroke import bristle_colours, colour_jitter, colour_sources, paint_stroke
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

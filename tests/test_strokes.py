@@ -13,14 +13,14 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
+from core.errors import PaintReliefError, ParameterError
+from core.files.io import read_image
+from core.methods import paint
+from core.params import CANVAS_COLOUR, Params
 from core.strokes.brush import BrushTip, brush_tip, load_brush
 from core.strokes.canvas import Canvas
 from core.strokes.compositing import stroke_footprint
-from core.errors import PaintReliefError, ParameterError
-from core.files.io import read_image
 from core.strokes.layout import choose_anchor
-from core.methods import paint
-from core.params import CANVAS_COLOUR, Params
 from core.strokes.smoothing import smooth
 from core.strokes.stroke import ColourSources, colour_sources, paint_stroke
 
@@ -525,7 +525,7 @@ def test_determinism():
     for name in ("colour", "height", "opacity", "coverage"):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
     assert len(a.strokes) == len(b.strokes) > 0
-    for s, t in zip(a.strokes, b.strokes):
+    for s, t in zip(a.strokes, b.strokes, strict=True):
         assert s.to_dict() == t.to_dict()
         np.testing.assert_array_equal(s.path, t.path)
     c = paint(img, Params(seed=8))

@@ -44,7 +44,7 @@ def main():
     height = ascent + descent
     widths = [max(1, advance(c)) for c in chars]
     cells = []
-    for char, width in zip(chars, widths):
+    for char, width in zip(chars, widths, strict=True):
         buf = oiio.ImageBuf(oiio.ImageSpec(width, height, 1, oiio.FLOAT))
         if char != " " and not oiio.ImageBufAlgo.render_text(buf, 0, ascent, char, EM_PX, FONT, (1.0,)):
             sys.exit("OpenImageIO could not render {!r}: {}".format(char, buf.geterror()))

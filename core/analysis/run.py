@@ -10,12 +10,12 @@ import numpy as np
 
 from ..colour import luminance
 from ..errors import InputError
-from .importance import importance_map, reference_image
-from .orientation import orientation_field
 from ..params import Params, scaled_sizes
-from .partition import detail_threshold, nearest_size, partition
 from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Analysis
+from .importance import importance_map, reference_image
+from .orientation import orientation_field
+from .partition import detail_threshold, nearest_size, partition
 
 
 def check_image(image: np.ndarray) -> np.ndarray:

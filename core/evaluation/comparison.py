@@ -16,16 +16,16 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from ..files import io
-from ..figures.chart import line_chart
 from ..colour import linear_to_srgb, luminance, srgb_to_linear
 from ..errors import InputError, ParameterError
+from ..figures.chart import line_chart
 from ..figures.gif import write_gif
+from ..figures.sheet import contact_sheet
+from ..files import io
+from ..files.staging import staged_outputs
 from ..lighting import DEFAULT_RELIEF, bump_lighting, directional_lighting, paper_lighting
 from ..measures.metrics import pearson, ssim
 from ..progress import ProgressFn, Stage
-from ..figures.sheet import contact_sheet
-from ..files.staging import staged_outputs
 
 MODELS = ("paper", "directional", "bump")
 MODEL_LABELS = {"paper": "paper (Eq. 6-7)", "directional": "directional Eq. 7", "bump": "bump (Blinn-Phong)"}

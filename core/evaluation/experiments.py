@@ -17,16 +17,16 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from ..errors import ParameterError
+from ..figures.sheet import contact_sheet
+from ..figures.visualize import partition_overlay
 from ..files import io
 from ..lighting import bump_lighting, paper_lighting
 from ..measures.metrics import edge_fidelity, psnr, ssim
 from ..methods.registry import paint
-from ..results import Painting
-from ..errors import ParameterError
 from ..params import Params
 from ..progress import CancelFn, ProgressFn, Stage
-from ..figures.sheet import contact_sheet
-from ..figures.visualize import partition_overlay
+from ..results import Painting
 
 METHODS = {
     "ours": ("Huang et al. 2011", {}),

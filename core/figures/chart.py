@@ -60,8 +60,8 @@ def line_chart(series: Sequence[Tuple[str, Sequence[float], Sequence[float]]], x
     draw_segment(image, (left, top + ph), (left + pw, top + ph), 1.2, (0, 0, 0))
     for i, (label, xs, ys) in enumerate(series):
         colour = SERIES_COLOURS[i % len(SERIES_COLOURS)]
-        points = [to_px(x, y) for x, y in zip(xs, ys)]
-        for p0, p1 in zip(points, points[1:]):
+        points = [to_px(x, y) for x, y in zip(xs, ys, strict=True)]
+        for p0, p1 in zip(points, points[1:], strict=False):
             draw_segment(image, p0, p1, 2.5, colour)
         for p in points:
             draw_segment(image, p, p, 7.0, colour)

@@ -9,11 +9,11 @@ from pathlib import Path
 
 import numpy as np
 
-from . import io
 from ..colour import srgb_to_linear
 from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
 from ..results import Painting
 from ..version import __version__
+from . import io
 
 
 def map_attributes(painting: Painting) -> dict:

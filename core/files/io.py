@@ -19,10 +19,10 @@ from typing import Dict, Iterator, List, Optional, Sequence, Tuple, Union
 import numpy as np
 import OpenImageIO as oiio
 
-from . import quiet
 from ..colour import linear_to_srgb, luminance
 from ..errors import InputError, OutputError
 from ..params import CANVAS_COLOUR
+from . import quiet
 
 PathLike = Union[str, os.PathLike]
 

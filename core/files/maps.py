@@ -16,8 +16,8 @@ import json
 import pathlib
 from typing import Dict, Sequence, Tuple
 
-from . import io
 from ..errors import InputError
+from . import io
 from .staging import settle
 
 EXPECTED_CHANNELS = {

@@ -39,8 +39,8 @@ import secrets
 import shutil
 from typing import Iterator, List, Optional
 
-from . import folderlock, signals
 from ..errors import OutputError
+from . import folderlock, signals
 
 STAGING_PREFIX = ".staging-"
 JOURNAL_NAME = ".paint-relief-commit.json"

@@ -6,8 +6,20 @@ normal map of a height field, and ``light(model, ...)`` choosing by name.
 """
 
 from .models import (
-    DEFAULT_AZIMUTH, DEFAULT_ELEVATION, DEFAULT_RELIEF, MODELS, PAPER_STRENGTH, bump_lighting, check_model,
-    default_strength, directional_lighting, encode_normals, height_difference, light, normal_map, paper_lighting,
+    DEFAULT_AZIMUTH,
+    DEFAULT_ELEVATION,
+    DEFAULT_RELIEF,
+    MODELS,
+    PAPER_STRENGTH,
+    bump_lighting,
+    check_model,
+    default_strength,
+    directional_lighting,
+    encode_normals,
+    height_difference,
+    light,
+    normal_map,
+    paper_lighting,
 )
 
 __all__ = ["DEFAULT_AZIMUTH", "DEFAULT_ELEVATION", "DEFAULT_RELIEF", "MODELS", "PAPER_STRENGTH", "bump_lighting",

@@ -41,7 +41,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import asdict
-from typing import Dict, List, Optional, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 from scipy import ndimage

@@ -118,7 +118,7 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
     last_report = time.monotonic()
     for layer in range(params.layers):
         count = 0
-        for grid, size in zip(grids, sizes):
+        for grid, size in zip(grids, sizes, strict=True):
             done += 1
             anchor = choose_anchor(grid, canvas.coverage, canvas.colour, analysis.reference,
                                    params.coverage_threshold, params.difference_threshold, rng)

@@ -24,7 +24,7 @@ def size_map(grids: np.ndarray, grid_sizes: np.ndarray, shape: tuple) -> np.ndar
     grids: (N, 4) int (x0, y0, x1, y1) half-open, tiling the (H, W) canvas; grid_sizes: (N,) px.
     """
     out = np.zeros(shape, np.int32)
-    for (x0, y0, x1, y1), s in zip(grids.tolist(), grid_sizes.tolist()):
+    for (x0, y0, x1, y1), s in zip(grids.tolist(), grid_sizes.tolist(), strict=True):
         out[y0:y1, x0:x1] = s
     return out
 

@@ -132,7 +132,7 @@ def plan_path(anchor: tuple, size: int, orientation: np.ndarray, canvas_colour: 
     minimum = [need_forward + max(0, need_backward - sides[1][3]),
                need_backward + max(0, need_forward - sides[0][3])]
     points, lengths = [], []
-    for (offsets, tests, reach, reached), least in zip(sides, minimum):
+    for (offsets, tests, reach, reached), least in zip(sides, minimum, strict=True):
         failed = np.flatnonzero(~tests[least:reached])
         if failed.size:
             count = least + int(failed[0]) + 1          # keep the control point that failed, drop the rest

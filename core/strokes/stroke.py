@@ -7,10 +7,10 @@ from typing import Dict, Iterable
 
 import numpy as np
 
+from ..params import Params
 from .brush import BrushTip
 from .canvas import Canvas
 from .compositing import stamp_stride, stroke_footprint
-from ..params import Params
 from .path import resample_by_length, tangent_angles
 from .planning import plan_path
 from .smoothing import SmoothedImage, smooth

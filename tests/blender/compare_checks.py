@@ -75,15 +75,14 @@ def empty_scene(bpy):
 
 
 def main(work):
-    import numpy as np
-
     import bpy
+    import numpy as np
 
     load_package()
     from paint_relief import core
     from paint_relief.addon import canvas, compare
-    from paint_relief.core.files import io
     from paint_relief.core.colour import linear_to_srgb, luminance, srgb_to_linear
+    from paint_relief.core.files import io
     from paint_relief.core.lighting import bump_lighting
     from paint_relief.core.measures.metrics import pearson
 

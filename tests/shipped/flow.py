@@ -47,7 +47,6 @@ def main(zip_path, work):
     RESULTS["install"] = {"result": sorted(result), "enabled": MODULE in bpy.context.preferences.addons,
                           "imported_at_enable": [m for m in ("scipy", "OpenImageIO") if m in sys.modules],
                           "blender": list(bpy.app.version)}
-    package = sys.modules[MODULE]
     dependencies = sys.modules[MODULE + ".addon.dependencies"]
     ops = bpy.ops.paint_relief
     scene = bpy.context.scene
@@ -68,7 +67,7 @@ def main(zip_path, work):
 
     from importlib import import_module
 
-    core = import_module(MODULE + ".core")
+    import_module(MODULE + ".core")
     io = import_module(MODULE + ".core.files.io")
     import numpy as np
 
