@@ -35,7 +35,9 @@ $(STAMP): requirements.txt
 # Everything: the whole suite in .venv, then the extension as shipped in bpy-only environments.
 test: test-core test-shipped
 
+# The linter first (pyproject.toml: pyflakes, import order, bugbear), then the suite.
 test-core: $(STAMP)
+	$(VENV)/bin/ruff check .
 	$(PY) -m pytest -q
 
 # The demo: analyse and paint SAMPLE, then the lighting comparison (Cycles renders of the canvas under a sweep

@@ -305,7 +305,7 @@ def build_material(material, images, thickness, connect_displacement, normal_map
     if material.node_tree is None:  # Blender 4.2 creates the tree only with use_nodes
         material.use_nodes = True
     tree = material.node_tree
-    nodes, links = tree.nodes, tree.links
+    nodes = tree.nodes
     for node in list(nodes):
         if node.get(OWN_NODE_KEY) or node.bl_idname in ("ShaderNodeBsdfPrincipled", "ShaderNodeOutputMaterial") \
                 and not material.get(OWN_NODE_KEY):

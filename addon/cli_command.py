@@ -14,7 +14,6 @@ comparison script:
 - ``compare INPUT -o OUTDIR [...]``: ``sample_scenes/compare.py``.
 """
 
-import argparse
 import importlib
 import sys
 

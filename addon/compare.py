@@ -6,7 +6,7 @@ right edge towards its bottom edge) the key light is turned there and the
 canvas is rendered twice with Cycles: with its paint relief
 (``relief_AAA.exr``) and with the relief switched off (``flat_AAA.exr``),
 scene-linear float RGB OpenEXR at exactly the map's pixel size, 'Standard'
-view transform. ``core.comparison.run_comparison`` then compares them with
+view transform. ``core.evaluation.comparison.run_comparison`` then compares them with
 the painter's 2-D lighting models.
 
 The same code serves the ``paint_relief.render_comparison`` operator and
@@ -236,7 +236,7 @@ def relief_pixels(canvas_obj):
 
 def compare(core_package, painting_dir, renders_dir, azimuths_deg, elevation_deg, out_dir, relief_px=None,
             progress=None):
-    """Call ``core.comparison.run_comparison`` of ``core_package`` (the extension's ``core``); return its dict.
+    """Call ``core.evaluation.comparison.run_comparison`` of ``core_package`` (the extension's ``core``); return its dict.
 
     ``relief_px`` (the canvas's relief for the 2-D bump model) is passed when
     the comparison accepts it.
@@ -244,7 +244,7 @@ def compare(core_package, painting_dir, renders_dir, azimuths_deg, elevation_deg
     import importlib
     import inspect
 
-    comparison = importlib.import_module(core_package.__name__ + ".comparison")
+    comparison = importlib.import_module(core_package.__name__ + ".evaluation.comparison")
     kwargs = {"progress": progress}
     if relief_px is not None and "relief_px" in inspect.signature(comparison.run_comparison).parameters:
         kwargs["relief_px"] = float(relief_px)

@@ -26,7 +26,7 @@ Steps, each printed with its time:
 4. renders: for every azimuth, ``OUTDIR/renders/relief_AAA.exr`` and, with
    the relief switched off, ``flat_AAA.exr`` (``addon/compare.py``);
 5. ``OUTDIR/scene.blend``;
-6. ``core.comparison.run_comparison`` writes comparison.json, comparison.md,
+6. ``core.evaluation.comparison.run_comparison`` writes comparison.json, comparison.md,
    comparison.png, correlation.png and light_sweep.gif into OUTDIR.
 
 Azimuths are degrees in the image from +x (right) towards +y (down): 0 =
@@ -72,7 +72,7 @@ def _azimuth_count(text):
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError("the light sweep's azimuth count must be a whole number, got {!r}".format(text))
+        raise argparse.ArgumentTypeError("the light sweep's azimuth count must be a whole number, got {!r}".format(text)) from None
     if value < 1:
         raise argparse.ArgumentTypeError("a light sweep needs at least 1 azimuth, got {}".format(value))
     return value
@@ -82,7 +82,7 @@ def _positive_int(text):
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a whole number".format(text))
+        raise argparse.ArgumentTypeError("{!r} is not a whole number".format(text)) from None
     if value < 1:
         raise argparse.ArgumentTypeError("{} must be at least 1".format(value))
     return value
@@ -92,7 +92,7 @@ def _elevation(text):
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of degrees".format(text))
+        raise argparse.ArgumentTypeError("{!r} is not a number of degrees".format(text)) from None
     if not 0.0 < value <= 90.0:
         raise argparse.ArgumentTypeError("the light elevation must be above 0 and at most 90 degrees, got {:g}".format(value))
     return value
@@ -102,7 +102,7 @@ def _thickness(text):
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of millimetres".format(text))
+        raise argparse.ArgumentTypeError("{!r} is not a number of millimetres".format(text)) from None
     if not value > 0.0:
         raise argparse.ArgumentTypeError("the paint thickness must be above 0 mm, got {:g}".format(value))
     return value
@@ -186,7 +186,7 @@ def scaled_input(core, image, out_dir, size):
     import numpy as np
     import OpenImageIO as oiio
 
-    from_io = importlib.import_module(core.__name__ + ".io")
+    from_io = importlib.import_module(core.__name__ + ".files.io")
     h, w = image.shape[:2]
     scale = min(1.0, size / max(w, h))
     if scale < 1.0:
@@ -226,7 +226,7 @@ def paint(core, args, photo, params, out_dir, log):
 
 
 def _map_size(painting_dir, core):
-    data = importlib.import_module(core.__name__ + ".io").read_exr(painting_dir / "height.exr")[0]
+    data = importlib.import_module(core.__name__ + ".files.io").read_exr(painting_dir / "height.exr")[0]
     return data.shape[1], data.shape[0]
 
 
@@ -286,7 +286,7 @@ def main(argv, prog=None):
 
         package, where = load_extension()
         core = importlib.import_module(package.__name__ + ".core")
-        core_io = importlib.import_module(core.__name__ + ".io")
+        core_io = importlib.import_module(core.__name__ + ".files.io")
         importlib.import_module(package.__name__ + ".addon.compare")
         log.say("    from {}".format(where))
         values = package.addon.values

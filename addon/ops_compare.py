@@ -4,7 +4,7 @@
 It renders the canvas under a sweep of the key light (the scene's light
 elevation, ``compare_azimuths`` directions), with and without relief
 (addon/compare.py, shared with sample_scenes/compare.py), then has
-``core.comparison.run_comparison`` compare the renders with the painter's
+``core.evaluation.comparison.run_comparison`` compare the renders with the painter's
 2-D lighting models. Outputs go to the comparison folder: renders/,
 comparison.json, comparison.md, comparison.png, correlation.png,
 light_sweep.gif.

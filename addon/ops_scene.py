@@ -12,7 +12,7 @@ import bpy
 from bpy.props import StringProperty
 from bpy.types import Operator
 
-from . import canvas, camera, lighting
+from . import camera, canvas, lighting
 
 
 class PAINT_RELIEF_OT_build_canvas(Operator):

@@ -15,7 +15,10 @@ import bpy
 from bpy.props import StringProperty
 from bpy.types import AddonPreferences
 
-from .properties import EXTENSION_PACKAGE
+# ``__package__`` here is "<extension package>.addon"; the extension package
+# (``bl_ext.<repository>.paint_relief`` when installed) is its parent. Blender
+# keys preferences and per-extension user folders by that parent name.
+EXTENSION_PACKAGE = __package__.rpartition(".")[0]
 
 HOME_FOLDER_NAME = "Paint Relief"
 

@@ -10,11 +10,6 @@ from bpy.types import PropertyGroup
 
 from . import values
 
-# ``__package__`` here is "<extension package>.addon"; the extension package
-# (``bl_ext.<repository>.paint_relief`` when installed) is its parent. Blender
-# keys preferences and per-extension user folders by that parent name.
-EXTENSION_PACKAGE = __package__.rpartition(".")[0]
-
 # Sub-folder of the saved .blend file's folder used for outputs by default.
 BLEND_RELATIVE_OUTPUT_DIR = "//paint_relief/"
 

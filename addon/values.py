@@ -8,7 +8,7 @@ otherwise; angles are radians.
 
 import math
 
-# Files of a painted folder the canvas needs (written by core.export.write_painting).
+# Files of a painted folder the canvas needs (written by core.files.export.write_painting).
 COLOR_MAP = "color.exr"
 HEIGHT_MAP = "height.exr"
 OPACITY_MAP = "opacity.exr"

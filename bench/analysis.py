@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 
 from common import median_runs, peak_mib, photo
-
 from core import Params, analyze
 
 STAGES = ("reference", "importance", "partition", "orientation")

@@ -82,9 +82,9 @@ def main() -> None:
 
     sys.path.insert(0, str(ROOT / "bench"))
     from common import photo  # noqa: E402
-
-    from core import Params, io  # noqa: E402
+    from core import Params  # noqa: E402
     from core.api import paint_file  # noqa: E402
+    from core.files import io  # noqa: E402
 
     with tempfile.TemporaryDirectory(prefix="paint_relief_bench_") as tmp:
         work = Path(tmp)

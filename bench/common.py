@@ -16,7 +16,7 @@ from scipy import ndimage
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from core import io  # noqa: E402
+from core.files import io  # noqa: E402
 
 SAMPLE = ROOT / "sample_scenes" / "coffee.png"
 

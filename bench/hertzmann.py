@@ -12,9 +12,8 @@ from __future__ import annotations
 import argparse
 
 from common import median_runs, peak_mib, photo
-
 from core import Params
-from core.painting import paint
+from core.methods import paint
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""Benchmark of the 2-D lighting models (core/lighting.py).
+"""Benchmark of the 2-D lighting models (core/lighting/models.py).
 
 Prints, for a photograph of about 1 megapixel, the median seconds of each
 model (paper, directional, bump) and of the normal map over several runs,
@@ -14,8 +14,8 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-from common import median_runs, peak_mib, photo
 
+from common import median_runs, peak_mib, photo
 from core import lighting
 
 

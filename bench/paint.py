@@ -21,8 +21,7 @@ import time
 from pathlib import Path
 
 from common import ROOT, photo
-
-from core import io
+from core.files import io
 
 
 def run_command(image: Path, out: Path) -> tuple:

@@ -4,7 +4,7 @@ A folder first holds a complete painting (seed 1). Then, N times: a run
 with a new seed paints into it and is killed with SIGKILL at a random moment
 of its writing phase (from the appearance of its staging folder to the end of
 its commit); right after the kill the folder must hold exactly one complete
-painting, the previous or the new one (``core.maps.check_painting``: every
+painting, the previous or the new one (``core.files.maps.check_painting``: every
 file's size and SHA-256 as report.json lists them and every EXR's header
 seed equal to the report's). A kill between the commit point and the end of
 the commit leaves a journal, which ``staging.settle`` (what the next run does
@@ -31,10 +31,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from core import io  # noqa: E402
 from core.errors import InputError  # noqa: E402
-from core.maps import check_painting  # noqa: E402
-from core.staging import JOURNAL_NAME, STAGING_PREFIX, settle  # noqa: E402
+from core.files import io  # noqa: E402
+from core.files.maps import check_painting  # noqa: E402
+from core.files.staging import JOURNAL_NAME, STAGING_PREFIX, settle  # noqa: E402
 
 
 def paint_command(image: Path, out: Path, seed: int) -> list:

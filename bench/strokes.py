@@ -1,7 +1,7 @@
 """Brushwork figures of the bundled samples, the paper's method next to Hertzmann 1998.
 
 For each bundled photograph, paints it with default settings by both methods
-and prints the figures of ALGORITHM §5-6 (core/stroke_metrics.py): median
+and prints the figures of ALGORITHM §5-6 (core/measures/stroke_metrics.py): median
 stroke length over width (all strokes and the first layer), the share of the
 painted area in dabs and in strokes at least 1.5 : 1, crack pixels, height
 percentiles, the colour error in smooth areas, the small highlights kept,
@@ -16,14 +16,19 @@ from __future__ import annotations
 import argparse
 
 from common import ROOT
-
 from core import Params
-from core import io
-from core.brushwork import brushwork_sheet
-from core.metrics import psnr
-from core.painting import paint
-from core.stroke_metrics import (area_share_elongated, crack_share, height_spread, highlights_kept,
-                                 smooth_colour_error, stroke_shape)
+from core.figures.brushwork import brushwork_sheet
+from core.files import io
+from core.measures.metrics import psnr
+from core.measures.stroke_metrics import (
+    area_share_elongated,
+    crack_share,
+    height_spread,
+    highlights_kept,
+    smooth_colour_error,
+    stroke_shape,
+)
+from core.methods import paint
 
 SAMPLES = ("coffee", "chelsea", "astronaut")
 FIGURE_BOX = {"coffee": (250, 110, 490, 350)}  # (x0, y0, x1, y1) px: the cup's rim, handle and spoon

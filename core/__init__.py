@@ -15,14 +15,17 @@ __all__ = [
 
 
 def __getattr__(name):
-    if name in ("Analysis", "analyze"):
-        from . import analysis
-        return getattr(analysis, name)
-    if name in ("Painting", "paint"):
-        from . import painting
-        return getattr(painting, name)
+    if name in ("Analysis", "Painting"):
+        from . import results
+        return getattr(results, name)
+    if name == "analyze":
+        from .analysis.run import analyze
+        return analyze
+    if name == "paint":
+        from .methods.registry import paint
+        return paint
     if name == "check_maps":
-        from .maps import check_maps
+        from .files.maps import check_maps
         return check_maps
     if name == "paint_file":
         from .api import paint_file

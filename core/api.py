@@ -5,11 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional
 
-from . import budget, io
 from .errors import InputError, PaintReliefError
+from .files import budget, io
+from .files.staging import output_folder
 from .params import Params
 from .progress import CancelFn, ProgressFn
-from .staging import output_folder
 
 
 def check_input(input_path, params: Params, mask_path: Optional[str] = None,
@@ -44,8 +44,8 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     problem, and leaves ``output_dir`` as it was (a folder this call created
     is removed again). Running out of memory is reported the same way.
     """
-    from .export import write_painting
-    from .painting import paint
+    from .files.export import write_painting
+    from .methods.registry import paint
 
     check_input(input_path, params, mask_path, max_memory)
     try:

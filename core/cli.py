@@ -14,14 +14,15 @@ import time
 from pathlib import Path
 from typing import List, Optional
 
-from . import budget, io, quiet, signals
-from .analysis import Analysis, analyze
+from .analysis.run import analyze
 from .errors import Cancelled, PaintReliefError, ParameterError
+from .figures.visualize import orientation_picture, partition_overlay
+from .files import budget, io, quiet, signals
+from .files.staging import output_folder
 from .params import STYLE_NAMES, Params
 from .progress import ConsoleProgress
-from .staging import output_folder
+from .results import Analysis
 from .version import __version__
-from .visualize import orientation_picture, partition_overlay
 
 DEFAULTS = Params()
 
@@ -38,7 +39,7 @@ def _sizes(text: str) -> tuple:
     try:
         sizes = tuple(int(s) for s in text.split(",") if s.strip())
     except ValueError:
-        raise argparse.ArgumentTypeError(f"sizes must be whole numbers separated by commas, got {text[:40]!r}")
+        raise argparse.ArgumentTypeError(f"sizes must be whole numbers separated by commas, got {text[:40]!r}") from None
     return sizes
 
 
@@ -267,7 +268,7 @@ def run_light(args: argparse.Namespace, progress) -> None:
         if not (folder / name).is_file():
             raise InputError(f"{folder / name} is missing: run `python -m core paint` into that folder first.")
     maps = {}
-    for name, channels in zip(names, (3, 1, 1)):
+    for name, channels in zip(names, (3, 1, 1), strict=False):
         data, _, _ = io.read_exr(folder / name)
         if data.shape[2] != channels:
             raise InputError(f"{folder / name} has {data.shape[2]} channels, expected {channels}.")
@@ -302,7 +303,7 @@ def _add_experiments_parser(sub) -> None:
 
 def run_experiments_command(args: argparse.Namespace, progress) -> None:
     """The ``experiments`` subcommand."""
-    from .experiments import run_experiments
+    from .evaluation.experiments import run_experiments
 
     params = Params(detail=args.detail, seed=args.seed, max_megapixels=args.max_megapixels).validate()
     run_experiments([Path(p) for p in args.images], Path(args.output), params, progress=progress,

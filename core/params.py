@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Tuple
 
 from .errors import ParameterError
@@ -129,7 +129,7 @@ class Params:
 
     # --- method, baselines and ablations (ALGORITHM §8) ---
     method: str = "huang11"
-    """'huang11' (the paper's painter) or 'hertzmann98' (the baseline in core/hertzmann.py)."""
+    """'huang11' (the paper's painter) or 'hertzmann98' (the baseline in core/methods/hertzmann98.py)."""
     style: str = "impressionist"
     """Hertzmann 1998 style (impressionist, expressionist, colorist_wash, pointillist): the whole
     baseline when method is 'hertzmann98'; its threshold T and grid factor f_g when layout is 'hertzmann98'."""

@@ -1,4 +1,4 @@
-"""Tests of core.brush: shipped brush maps, loading user brushes, brush tips."""
+"""Tests of core.strokes.brush: shipped brush maps, loading user brushes, brush tips."""
 
 from __future__ import annotations
 
@@ -6,11 +6,18 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from core.brush import (
-    SHIPPED_BRUSHES, BrushTip, brush_tip, crop_to_bristles, load_brush, procedural_brush,
-    resize_map, tip_cache, tip_length,
-)
 from core.errors import InputError, PaintReliefError, ParameterError
+from core.strokes.brush import (
+    SHIPPED_BRUSHES,
+    BrushTip,
+    brush_tip,
+    crop_to_bristles,
+    load_brush,
+    procedural_brush,
+    resize_map,
+    tip_cache,
+    tip_length,
+)
 
 
 def write_png(path, pixels: np.ndarray) -> None:
@@ -252,8 +259,8 @@ def test_brush_tip_transparency_scales():
     half = brush_tip(m, 32, 0.5)
     keep = full.intensity > 2e-3                           # both keep these
     assert np.all(full.intensity <= 1.0)
-    sub = {(a, c): i for a, c, i in zip(half.along, half.across, half.intensity)}
-    for a, c, i in zip(full.along[keep], full.across[keep], full.intensity[keep]):
+    sub = {(a, c): i for a, c, i in zip(half.along, half.across, half.intensity, strict=True)}
+    for a, c, i in zip(full.along[keep], full.across[keep], full.intensity[keep], strict=True):
         assert sub[(a, c)] == pytest.approx(0.5 * i, rel=1e-5)
 
 

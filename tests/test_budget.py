@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core import budget, io
 from core.errors import InputError, ParameterError
+from core.files import budget, io
 
 REPO = Path(__file__).resolve().parent.parent
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from core.chart import SERIES_COLOURS, draw_segment, line_chart
+from core.figures.chart import SERIES_COLOURS, draw_segment, line_chart
 
 
 def test_segment_is_drawn_between_its_ends_only():

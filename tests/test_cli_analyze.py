@@ -1,19 +1,17 @@
 """``python -m core analyze``: outputs, progress, bad input."""
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
-
-from core.params import Params
 import OpenImageIO as oiio
 import pytest
 
-from core import io
 from core.cli import main
+from core.files import io
+from core.params import Params
 
 ROOT = Path(__file__).resolve().parent.parent
 OUTPUTS = {"reference.png", "importance.exr", "importance.png", "partition.png", "orientation.png", "analysis.json"}

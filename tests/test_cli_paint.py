@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from core import io
 from core.cli import main
 from core.colour import srgb_to_linear
+from core.files import io
 
 OUTPUTS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "normal.exr", "painting.png", "lit_paper.png",
            "strokes.json", "report.json"}

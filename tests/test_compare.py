@@ -6,7 +6,7 @@ BLENDER_USER_RESOURCES in a temporary folder:
   and the sweep on a synthetic ramp (RESULTS json, asserted on here);
 - sample_scenes/compare.py end to end on a tiny photograph, whose figures
   are recomputed here from its renders and maps with core.lighting and
-  core.metrics.
+  core.measures.metrics.
 The pure helpers of addon/values.py are tested without Blender.
 """
 
@@ -22,10 +22,10 @@ import numpy as np
 import pytest
 from addon_values import values
 
-from core import io
 from core.colour import linear_to_srgb, luminance, srgb_to_linear
+from core.files import io
 from core.lighting import bump_lighting, directional_lighting, paper_lighting
-from core.metrics import pearson
+from core.measures.metrics import pearson
 
 REPO = Path(__file__).resolve().parent.parent
 CHECKS = REPO / "tests" / "blender" / "compare_checks.py"
@@ -181,7 +181,7 @@ def test_compare_script_writes_everything(end_to_end):
 
 @pytest.mark.blender
 def test_compare_script_figures_recomputed_from_its_renders(end_to_end):
-    """comparison.json's Pearson r, recomputed here with core.lighting and core.metrics from the files."""
+    """comparison.json's Pearson r, recomputed here with core.lighting and core.measures.metrics from the files."""
     out = end_to_end["out"]
     result = json.loads((out / "comparison.json").read_text())
     linear = io.read_exr(out / "painting" / "color.exr")[0][..., :3]

@@ -6,12 +6,12 @@ import math
 import numpy as np
 import pytest
 
-from core import io
-from core.colour import linear_to_srgb, luminance, srgb_to_linear
-from core.comparison import render_path, run_comparison, shading
+from core.colour import luminance, srgb_to_linear
 from core.errors import InputError, ParameterError
+from core.evaluation.comparison import render_path, run_comparison, shading
+from core.files import io
 from core.lighting import bump_lighting
-from core.metrics import pearson
+from core.measures.metrics import pearson
 
 
 @pytest.fixture

@@ -4,8 +4,8 @@ import csv
 
 import numpy as np
 
-from core import io
 from core.cli import main
+from core.files import io
 
 
 def test_experiments_writes_tables_and_sheets(tmp_path):

@@ -25,18 +25,17 @@ import OpenImageIO as oiio
 import pytest
 from addon_values import values
 
-from core import io
 from core.api import paint_file
 from core.cli import main
 from core.errors import InputError
-from core.maps import check_maps, check_painting
+from core.files import io
+from core.files.maps import check_maps, check_painting
+from core.files.staging import JOURNAL_NAME, STAGING_PREFIX, recover, settle
 from core.params import Params
-from core.staging import JOURNAL_NAME, STAGING_PREFIX, recover, settle
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "bench"))
 from stress_kill import stress  # noqa: E402
-
 
 # --- helpers ------------------------------------------------------------------------------------------------------
 
@@ -238,11 +237,11 @@ def test_panel_sizes_are_capped():
 
 def test_memory_error_is_one_sentence(inputs, folder, monkeypatch, capfd):
     out, before = folder
-    import core.painting
+    import core.methods.registry
 
     def boom(*args, **kwargs):
         raise MemoryError()
-    monkeypatch.setattr(core.painting, "paint", boom)
+    monkeypatch.setattr(core.methods.registry, "paint", boom)
     assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q"]) == 2
     assert_one_sentence(capfd.readouterr().err, "ran out of memory", "photo.png")
     assert snapshot(out) == before
@@ -295,11 +294,11 @@ def test_failed_run_creates_no_folders(inputs, tmp_path):
 
 
 def test_failed_run_after_creating_the_folder_removes_it(inputs, tmp_path, monkeypatch, capfd):
-    import core.painting
+    import core.methods.registry
 
     def broken(*args, **kwargs):
         raise InputError("The painter stopped on purpose.")
-    monkeypatch.setattr(core.painting, "paint", broken)
+    monkeypatch.setattr(core.methods.registry, "paint", broken)
     assert main(["paint", str(inputs / "photo.png"), "-o", str(tmp_path / "a" / "b"), "-q"]) == 2
     assert_one_sentence(capfd.readouterr().err, "on purpose")
     assert list(tmp_path.iterdir()) == []

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from core.gif import palette, quantise, write_gif
+from core.figures.gif import palette, quantise, write_gif
 
 
 def lzw_decode(data: bytes, min_code_size: int, count: int) -> np.ndarray:
@@ -79,7 +79,7 @@ def test_gif_round_trip(tmp_path):
     table, frames, delays = read_gif(path.read_bytes())
     assert np.array_equal(table, palette())
     assert delays == [25, 25, 25]
-    for source, decoded in zip([gradient, noise, flat], frames):
+    for source, decoded in zip([gradient, noise, flat], frames, strict=True):
         assert np.array_equal(decoded, quantise(source))
         # Dithering keeps local means: a 4x4 box average is close to the source.
         shown = table[decoded].astype(np.float64) / 255.0

@@ -7,15 +7,17 @@ import json
 import numpy as np
 import pytest
 
-from core import io
-from core.canvas import Canvas
 from core.cli import main
 from core.errors import ParameterError
-from core.hertzmann import STYLES, get_style, paint_hertzmann, scaled_radii
-from core.layout import hertzmann_anchors
-from core.painting import Painting, paint
+from core.files import io
+from core.methods import paint
+from core.methods.hertzmann98 import paint_hertzmann, scaled_radii
+from core.methods.styles import STYLES, get_style
 from core.params import Params
-from core.stroke import solid_stroke
+from core.results import Painting
+from core.strokes.canvas import Canvas
+from core.strokes.layout import hertzmann_anchors
+from core.strokes.stroke import solid_stroke
 
 
 def textured(h: int = 96, w: int = 128, seed: int = 1) -> np.ndarray:
@@ -135,7 +137,7 @@ def test_solid_line_is_one_colour():
 
 
 def test_lines_renderer_single_stroke_one_colour():
-    from core.stroke import colour_sources, paint_stroke
+    from core.strokes.stroke import colour_sources, paint_stroke
     ref = textured(64, 64)
     canvas = Canvas.blank((64, 64), (0.93, 0.90, 0.84))
     orientation = np.zeros((64, 64), np.float32)

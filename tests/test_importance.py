@@ -1,10 +1,15 @@
 """Reference image and importance map (ALGORITHM §1)."""
 
 import numpy as np
-import pytest
 
-from core.importance import (bilateral_filter, importance_map, normalise_energy, reference_image,
-                             resize_mask, sobel_energy)
+from core.analysis.importance import (
+    bilateral_filter,
+    importance_map,
+    normalise_energy,
+    reference_image,
+    resize_mask,
+    sobel_energy,
+)
 
 
 def test_constant_image_has_zero_energy():

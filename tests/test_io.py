@@ -1,4 +1,4 @@
-"""Tests of core.io: image reading, EXR/PNG/JSON writing, errors and atomic writes."""
+"""Tests of core.files.io: image reading, EXR/PNG/JSON writing, errors and atomic writes."""
 
 from __future__ import annotations
 
@@ -9,15 +9,15 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from core import io
 from core.colour import luminance
 from core.errors import InputError, OutputError
+from core.files import io
 
 CANVAS = (0.93, 0.90, 0.84)
 
 
 def oiio_write(path, pixels, fmt=None, names=None, attrs=None):
-    """Write ``pixels`` (H, W, C) with OpenImageIO directly (not through core.io)."""
+    """Write ``pixels`` (H, W, C) with OpenImageIO directly (not through core.files.io)."""
     pixels = np.ascontiguousarray(pixels)
     h, w, c = pixels.shape
     spec = oiio.ImageSpec(w, h, c, fmt or str(pixels.dtype))
@@ -423,7 +423,7 @@ def test_exif_orientation_is_honoured(tmp_path):
     """A sideways JPEG (Orientation 6: shown turned 90 degrees clockwise) reads upright."""
     import OpenImageIO as oiio
 
-    from core.io import read_image, upright
+    from core.files.io import read_image, upright
 
     stored = np.zeros((20, 40, 3), np.uint8)
     stored[:, :20] = (255, 0, 0)   # left half red

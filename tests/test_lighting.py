@@ -1,4 +1,4 @@
-"""Lighting models (core/lighting.py) and ``python -m core light``.
+"""Lighting models (core/lighting/models.py) and ``python -m core light``.
 
 Conventions: x = column, y = row (down); angles from +x towards +y; a light
 azimuth points from the canvas towards the light; normals are X right, Y up,
@@ -11,10 +11,11 @@ import shutil
 import numpy as np
 import pytest
 
-from core import io, lighting
 from core.cli import main
 from core.colour import linear_to_srgb, srgb_to_linear
 from core.errors import ParameterError
+from core.files import io
+from core.lighting import models as lighting
 
 H, W = 12, 16
 

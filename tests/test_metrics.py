@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from core.metrics import edge_fidelity, pearson, psnr, ssim
+from core.measures.metrics import edge_fidelity, pearson, psnr, ssim
 
 
 def test_psnr_of_a_known_error():

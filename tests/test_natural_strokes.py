@@ -9,14 +9,14 @@ import pathlib
 import numpy as np
 import pytest
 
-from core.brush import brush_tip, load_brush
-from core.canvas import Canvas
-from core.compositing import stroke_footprint, track_footprint
-from core.io import read_image
-from core.painting import paint
-from core.path import catmull_rom, resample_by_length, tangent_angles
+from core.files.io import read_image
+from core.methods import paint
 from core.params import Params
-from core.stroke import bristle_colours, colour_jitter, colour_sources, paint_stroke
+from core.strokes.brush import brush_tip, load_brush
+from core.strokes.canvas import Canvas
+from core.strokes.compositing import stroke_footprint, track_footprint
+from core.strokes.path import catmull_rom, resample_by_length, tangent_angles
+from core.strokes.stroke import bristle_colours, colour_jitter, colour_sources, paint_stroke
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 

@@ -1,4 +1,4 @@
-"""Tests of the orientation field (core/orientation.py, ALGORITHM §4, Eq. 3)."""
+"""Tests of the orientation field (core/analysis/orientation.py, ALGORITHM §4, Eq. 3)."""
 
 import math
 
@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import RBFInterpolator
 
-from core.orientation import (
+from core.analysis.orientation import (
     blend_orientations,
     gradient_normal,
     key_points,
@@ -99,9 +99,9 @@ def test_key_points_one_per_cell_strongest():
     ys, xs = key_points(strength, energy, cells=10, threshold=0.0, max_points=10_000)
     assert ys.dtype.kind == "i" and xs.dtype.kind == "i"
     assert len(ys) == 100
-    cells = set(zip((ys // 10).tolist(), (xs // 10).tolist()))
+    cells = set(zip((ys // 10).tolist(), (xs // 10).tolist(), strict=True))
     assert len(cells) == 100
-    for y, x in zip(ys, xs):
+    for y, x in zip(ys, xs, strict=True):
         cy, cx = y // 10 * 10, x // 10 * 10
         assert energy[y, x] == energy[cy:cy + 10, cx:cx + 10].max()
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from core.sheet import BACKGROUND, contact_sheet, fit_height, label_strip
+from core.figures.sheet import BACKGROUND, contact_sheet, fit_height, label_strip
 
 
 def test_fit_height_keeps_aspect_and_values():

@@ -13,16 +13,16 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from core.brush import BrushTip, brush_tip, load_brush
-from core.canvas import Canvas
-from core.compositing import stroke_footprint
 from core.errors import PaintReliefError, ParameterError
-from core.io import read_image
-from core.layout import choose_anchor
-from core.painting import paint
+from core.files.io import read_image
+from core.methods import paint
 from core.params import CANVAS_COLOUR, Params
-from core.smoothing import smooth
-from core.stroke import ColourSources, colour_sources, paint_stroke
+from core.strokes.brush import BrushTip, brush_tip, load_brush
+from core.strokes.canvas import Canvas
+from core.strokes.compositing import stroke_footprint
+from core.strokes.layout import choose_anchor
+from core.strokes.smoothing import smooth
+from core.strokes.stroke import ColourSources, colour_sources, paint_stroke
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 C0 = np.array(CANVAS_COLOUR, dtype=np.float64)
@@ -144,7 +144,7 @@ def test_eq4_two_stamps_fold_later_on_top():
 def test_relief_rule_by_hand():
     # a hand-made footprint over old paint H = 0.4, A = 0.5: o = (1 - T) f, f = min(1, deposit / deposit_90);
     # over: H + o h - o f H; accumulate (b = 0.5): H + o h - o f (1 - b) H
-    from core.compositing import Footprint
+    from core.strokes.compositing import Footprint
     fp = Footprint(np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9], np.int32), np.full(10, 0.1),
                    np.zeros((10, 3), np.float32), np.array([1, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32),
                    np.array([1.2, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32))
@@ -525,7 +525,7 @@ def test_determinism():
     for name in ("colour", "height", "opacity", "coverage"):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
     assert len(a.strokes) == len(b.strokes) > 0
-    for s, t in zip(a.strokes, b.strokes):
+    for s, t in zip(a.strokes, b.strokes, strict=True):
         assert s.to_dict() == t.to_dict()
         np.testing.assert_array_equal(s.path, t.path)
     c = paint(img, Params(seed=8))
@@ -545,7 +545,7 @@ def test_bundled_samples_psnr(name):
 
 
 def test_grids_are_visited_largest_first():
-    from core.layout import grid_order
+    from core.strokes.layout import grid_order
 
     grids = np.array([[0, 0, 2, 2], [2, 0, 10, 8], [0, 2, 2, 8], [10, 0, 12, 2]], dtype=np.int32)
     # areas 4, 64, 12, 4: largest first, ties in partition order
@@ -553,7 +553,7 @@ def test_grids_are_visited_largest_first():
 
 
 def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
-    from core.compositing import stroke_footprint
+    from core.strokes.compositing import stroke_footprint
 
     sample = np.array([[5.0, 5.0]])
     angle = np.array([0.0])

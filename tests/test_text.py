@@ -5,9 +5,9 @@ import sys
 import numpy as np
 import pytest
 
-from core import text
-from core.chart import line_chart
-from core.sheet import BACKGROUND, LABEL_COLOUR, label_strip
+from core.figures import text
+from core.figures.chart import line_chart
+from core.figures.sheet import BACKGROUND, LABEL_COLOUR, label_strip
 
 
 class _NoFreeType:

@@ -1,11 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Render the bitmap font core/text.py draws with: printable ASCII of Droid Sans at 32 px, as coverage.
+"""Render the bitmap font core/figures/text.py draws with: printable ASCII of Droid Sans at 32 px, as coverage.
 
 Needs OpenImageIO built with FreeType (the PyPI package is; Blender's bundled
 module is not, which is why the painter ships this bitmap instead of
 rendering text at run time)::
 
-    .venv/bin/python tools/render_font.py            # writes core/font.npz
+    .venv/bin/python tools/render_font.py            # writes core/figures/font.npz
 
 Droid Sans (Apache License 2.0) is the font OpenImageIO's PyPI package ships.
 Each glyph is rendered on its own, anti-aliased, into a cell as wide as its
@@ -24,7 +24,7 @@ import OpenImageIO as oiio
 FONT = "DroidSans"
 EM_PX = 32
 FIRST, LAST = 32, 126
-OUT = Path(__file__).resolve().parent.parent / "core" / "font.npz"
+OUT = Path(__file__).resolve().parent.parent / "core" / "figures" / "font.npz"
 
 
 def advance(char):
@@ -44,7 +44,7 @@ def main():
     height = ascent + descent
     widths = [max(1, advance(c)) for c in chars]
     cells = []
-    for char, width in zip(chars, widths):
+    for char, width in zip(chars, widths, strict=True):
         buf = oiio.ImageBuf(oiio.ImageSpec(width, height, 1, oiio.FLOAT))
         if char != " " and not oiio.ImageBufAlgo.render_text(buf, 0, ascent, char, EM_PX, FONT, (1.0,)):
             sys.exit("OpenImageIO could not render {!r}: {}".format(char, buf.geterror()))

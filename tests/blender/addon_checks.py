@@ -88,7 +88,7 @@ def main(work, render):
     # An empty scene: the start-up file's cube would hide the canvas from the camera.
     bpy.ops.wm.read_factory_settings(use_empty=True)
     paint_relief.register()
-    from paint_relief.core import io
+    from paint_relief.core.files import io
 
     ops = bpy.ops.paint_relief
     scene = bpy.context.scene

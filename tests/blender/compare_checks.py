@@ -19,7 +19,7 @@ ramp         a painted folder written here: mid-grey colour, opacity 1,
              orientation 0 and a height field that falls towards +x (rises
              towards -x) with a slope that grows down the image; rendered by
              ``compare.render_sweep`` with the light at painter azimuths 0
-             (right) and 180 (left), then compared by core.comparison.
+             (right) and 180 (left), then compared by core.evaluation.comparison.
 operator     paint_relief.render_comparison on the ramp scene, headless, and
              its one-sentence error for a comparison folder it cannot write.
 
@@ -75,17 +75,16 @@ def empty_scene(bpy):
 
 
 def main(work):
-    import numpy as np
-
     import bpy
+    import numpy as np
 
     load_package()
     from paint_relief import core
     from paint_relief.addon import canvas, compare
-    from paint_relief.core import io
     from paint_relief.core.colour import linear_to_srgb, luminance, srgb_to_linear
+    from paint_relief.core.files import io
     from paint_relief.core.lighting import bump_lighting
-    from paint_relief.core.metrics import pearson
+    from paint_relief.core.measures.metrics import pearson
 
     ops = bpy.ops.paint_relief
     scene = empty_scene(bpy)

@@ -47,7 +47,6 @@ def main(zip_path, work):
     RESULTS["install"] = {"result": sorted(result), "enabled": MODULE in bpy.context.preferences.addons,
                           "imported_at_enable": [m for m in ("scipy", "OpenImageIO") if m in sys.modules],
                           "blender": list(bpy.app.version)}
-    package = sys.modules[MODULE]
     dependencies = sys.modules[MODULE + ".addon.dependencies"]
     ops = bpy.ops.paint_relief
     scene = bpy.context.scene
@@ -68,8 +67,8 @@ def main(zip_path, work):
 
     from importlib import import_module
 
-    core = import_module(MODULE + ".core")
-    io = import_module(MODULE + ".core.io")
+    import_module(MODULE + ".core")
+    io = import_module(MODULE + ".core.files.io")
     import numpy as np
 
     photo = os.path.join(work, "photo.png")
@@ -121,7 +120,7 @@ def main(zip_path, work):
         sheet_path = os.path.join(folder, "comparison.png")
         found = {"result": result, "error": error, "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else []}
         if os.path.isfile(sheet_path):
-            sheet_module = import_module(MODULE + ".core.sheet")
+            sheet_module = import_module(MODULE + ".core.figures.sheet")
             sheet = io.read_image(sheet_path)
             # The first row of labels: the strip between the top gap and the first pictures.
             strip = sheet[6:6 + 24, 6:200]

@@ -6,7 +6,6 @@ the painter uses comes from Blender or from the zip's wheels.
 """
 
 import pytest
-
 from conftest import run_script
 
 

@@ -1,0 +1,509 @@
+"""Image and file input/output: reading pictures, masks and EXR maps, writing EXR, PNG and JSON.
+
+Every reader raises ``InputError`` and every writer ``OutputError`` with one
+sentence naming the file and the problem. Writers go through ``atomic_path``:
+the data is written to a temporary file in the same folder and renamed over
+the target, so a failed write never leaves a half-written file over a good
+one. Writers produce the same bytes for the same data (no timestamps).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import pathlib
+import secrets
+from typing import Dict, Iterator, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import OpenImageIO as oiio
+
+from ..colour import linear_to_srgb, luminance
+from ..errors import InputError, OutputError
+from ..params import CANVAS_COLOUR
+from . import quiet
+
+PathLike = Union[str, os.PathLike]
+
+# File formats whose pixel values are scene-linear whatever their header says.
+_LINEAR_FORMATS = {"openexr", "hdr"}
+_LINEAR_EXTENSIONS = {".exr", ".hdr", ".sxr", ".mxr"}
+# Colour-space names (lower case) that mean scene-linear data.
+_LINEAR_SPACES = {"linear", "scene_linear", "acescg", "aces2065-1"}
+
+# Header attribute holding the channel order given to write_exr (OpenEXR stores channels sorted by name).
+_CHANNEL_ORDER_ATTR = "paint_relief:channel_order"
+
+
+# ---------------------------------------------------------------------------
+# messages
+
+
+def _reason(text: str, fallback: str) -> str:
+    """First non-empty line of an OpenImageIO error, without a trailing full stop."""
+    for line in (text or "").splitlines():
+        line = line.strip().rstrip(".").strip()
+        if line:
+            return line
+    return fallback
+
+
+def _oiio_error(obj=None) -> str:
+    """Pending OpenImageIO error text from ``obj`` (or the global one); clears it."""
+    text = ""
+    if obj is not None:
+        text = obj.geterror()
+    return text or oiio.geterror()
+
+
+# ---------------------------------------------------------------------------
+# reading
+
+
+def _check_input_path(path: pathlib.Path) -> None:
+    """Raise InputError when ``path`` is missing, a folder or an empty file."""
+    if not path.exists():
+        raise InputError(f"The input file {path} does not exist.")
+    if path.is_dir():
+        raise InputError(f"The input {path} is a folder, not an image file.")
+    if path.stat().st_size == 0:
+        raise InputError(f"The input file {path} is empty (0 bytes).")
+
+
+def _is_linear(path: pathlib.Path, format_name: str, spec) -> bool:
+    """True when the file holds scene-linear values (EXR/HDR, or a linear colour space in its header)."""
+    if format_name.lower() in _LINEAR_FORMATS or path.suffix.lower() in _LINEAR_EXTENSIONS:
+        return True
+    space = str(spec.get_string_attribute("oiio:ColorSpace", "")).lower()
+    return space in _LINEAR_SPACES or space.startswith("lin_")
+
+
+def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, bool, bool]:
+    """Read the first subimage, mip level 0, of any file OpenImageIO reads.
+
+    Returns ``(data, has_alpha, linear)``: ``data`` float32 (H, W, C) with
+    C = channels of the file (integer data divided by its type's maximum,
+    float data as stored); alpha, if any, is the last channel of the first
+    two (gray + alpha) or four (RGBA) and the colour is straight (not
+    premultiplied). ``linear`` says the colour values are scene-linear.
+    """
+    path = pathlib.Path(path)
+    _check_input_path(path)
+    oiio.geterror()  # drop any stale global error
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path), config)
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, max_megapixels)
+            data = upright(_read_first_image(path, inp, spec), spec.get_int_attribute("Orientation", 1))
+            linear = _is_linear(path, inp.format_name(), spec)
+            associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
+        finally:
+            inp.close()
+    if not np.all(np.isfinite(data)):
+        raise InputError(f"The image {path} holds NaN or infinite values.")
+    data, has_alpha = _select_channels(data)
+    if has_alpha and associated:
+        data = _unpremultiply(data)
+    return data, has_alpha, linear
+
+
+def upright(data: np.ndarray, orientation: int) -> np.ndarray:
+    """(H, W, C) pixels as stored -> as meant to be seen, by the EXIF/TIFF ``Orientation`` tag (1-8).
+
+    1 is upright; 2 mirrored left-right; 3 turned 180 degrees; 4 mirrored
+    top-bottom; 5 transposed; 6 shown turned 90 degrees clockwise; 7
+    transverse; 8 shown turned 90 degrees counter-clockwise. Other values
+    are taken as 1. Cameras store sideways photographs with 6 or 8.
+    """
+    ops = {
+        2: lambda a: a[:, ::-1],
+        3: lambda a: a[::-1, ::-1],
+        4: lambda a: a[::-1, :],
+        5: lambda a: a.transpose(1, 0, 2),
+        6: lambda a: np.rot90(a, -1),
+        7: lambda a: a[::-1, ::-1].transpose(1, 0, 2),
+        8: lambda a: np.rot90(a, 1),
+    }
+    if orientation not in ops:
+        return data
+    return np.ascontiguousarray(ops[orientation](data))
+
+
+def _check_spec(path: pathlib.Path, spec, max_megapixels: float) -> None:
+    """Refuse empty images and images above the pixel limit, before reading any pixel."""
+    if spec.width <= 0 or spec.height <= 0 or spec.nchannels <= 0:
+        raise InputError(f"The image {path} is empty ({spec.width} x {spec.height} pixels).")
+    megapixels = spec.width * spec.height / 1e6
+    if megapixels > max_megapixels:
+        raise InputError(
+            f"The image {path} has {megapixels:g} megapixels ({spec.width} x {spec.height}), "
+            f"more than the limit of {max_megapixels:g} megapixels.")
+
+
+def _read_first_image(path: pathlib.Path, inp, spec) -> np.ndarray:
+    """Pixels of subimage 0, mip 0 as float32 (H, W, C); InputError when reading fails or is partial."""
+    native = {"uint8": np.uint8, "uint16": np.uint16}.get(str(spec.format))
+    fmt = str(spec.format) if native is not None else "float"
+    pixels = inp.read_image(0, 0, 0, spec.nchannels, fmt)
+    error = inp.geterror() if inp.has_error else ""
+    if pixels is None or error:
+        why = _reason(error or oiio.geterror(), "the pixel data could not be read")
+        raise InputError(f"Cannot read the image {path}: {why}.")
+    pixels = np.asarray(pixels)
+    if pixels.ndim == 2 and spec.nchannels == 1:
+        pixels = pixels[:, :, None]
+    if pixels.shape != (spec.height, spec.width, spec.nchannels):
+        raise InputError(f"Cannot read the image {path}: the pixel data has the wrong size {pixels.shape}.")
+    if native is not None:
+        return pixels.astype(np.float32) / np.float32(np.iinfo(native).max)
+    return pixels.astype(np.float32, copy=False)
+
+
+def _select_channels(data: np.ndarray) -> Tuple[np.ndarray, bool]:
+    """(H, W, C) -> (H, W, 1|2|3|4) and whether the last channel is alpha: 1 gray, 2 gray+alpha, 3 RGB, >=4 RGBA."""
+    n = data.shape[2]
+    if n >= 4:
+        return data[:, :, :4], True
+    return data, n in (2, 4)
+
+
+def _unpremultiply(data: np.ndarray) -> np.ndarray:
+    """Straight colour from premultiplied (H, W, C) data whose last channel is alpha; alpha 0 gives colour 0."""
+    alpha = data[:, :, -1:]
+    safe = np.where(alpha > 0, alpha, np.float32(1))
+    colour = np.where(alpha > 0, data[:, :, :-1] / safe, np.float32(0))
+    return np.concatenate([colour, alpha], axis=2).astype(np.float32)
+
+
+def _to_srgb(colour: np.ndarray, linear: bool) -> np.ndarray:
+    """Colour values -> sRGB-encoded [0, 1]: linear data goes through the sRGB curve, other data is clipped."""
+    if linear:
+        return linear_to_srgb(colour)
+    return np.clip(colour, 0.0, 1.0).astype(np.float32)
+
+
+def probe(path: PathLike, max_megapixels: float = float("inf")) -> Tuple[int, int, int]:
+    """(width, height, channels) of the first image in ``path``, from its header alone (no pixel is decoded).
+
+    Same InputError rules as ``read_image`` for missing, empty, unreadable
+    and too large files.
+    """
+    path = pathlib.Path(path)
+    _check_input_path(path)
+    oiio.geterror()
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path))
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, max_megapixels)
+            return int(spec.width), int(spec.height), int(spec.nchannels)
+        finally:
+            inp.close()
+
+
+def read_image(path: PathLike, max_megapixels: float = 50.0,
+               canvas_colour: Sequence[float] = CANVAS_COLOUR) -> np.ndarray:
+    """Read a picture as float32 (H, W, 3) sRGB-encoded values in [0, 1].
+
+    Any format OpenImageIO reads (PNG, JPEG, TIFF, EXR, ...; uint8, uint16,
+    half, float); only the first subimage and its full-resolution level.
+    Integer data is divided by its type's maximum (255, 65535). Scene-linear
+    files (EXR, HDR, or a linear ``oiio:ColorSpace`` such as lin_rec709) are
+    converted with the sRGB curve and clipped to [0, 1]; other float data is
+    clipped. One channel is gray (copied to R, G, B); two are gray + alpha;
+    three RGB; four or more: the first four are RGBA.
+
+    Alpha is composited over ``canvas_colour`` (sRGB, three values in [0, 1])
+    in sRGB space: ``rgb * a + canvas * (1 - a)``, with straight (not
+    premultiplied) ``rgb``, so a transparent pixel shows the bare canvas.
+
+    Raises InputError (one sentence naming the file) when the file is
+    missing, a folder, not a readable image, truncated, empty, above
+    ``max_megapixels`` (checked from the header before any pixel is read),
+    or holds NaN or infinite values.
+    """
+    data, has_alpha, linear = _read_pixels(path, max_megapixels)
+    colour_channels = data.shape[2] - (1 if has_alpha else 0)
+    colour = data[:, :, :colour_channels]
+    if colour_channels == 1:
+        colour = np.repeat(colour, 3, axis=2)
+    rgb = _to_srgb(colour, linear)
+    if has_alpha:
+        alpha = np.clip(data[:, :, -1:], 0.0, 1.0)
+        canvas = np.asarray(canvas_colour, dtype=np.float32).reshape(1, 1, 3)
+        rgb = rgb * alpha + canvas * (np.float32(1) - alpha)
+    return np.ascontiguousarray(rgb, dtype=np.float32)
+
+
+def read_gray(path: PathLike, max_megapixels: float = 50.0) -> np.ndarray:
+    """Read a mask or brush map as float32 (H, W) values in [0, 1].
+
+    Gray files give their value; colour files the Rec.709 luminance of their
+    sRGB-encoded values. Values are converted exactly as in ``read_image``
+    (integer data / maximum; scene-linear files such as EXR go through the
+    sRGB curve, including one-channel ones). Alpha, if present, multiplies
+    the value, so transparent pixels read as 0. Same InputError rules as
+    ``read_image``.
+    """
+    data, has_alpha, linear = _read_pixels(path, max_megapixels)
+    colour_channels = data.shape[2] - (1 if has_alpha else 0)
+    values = _to_srgb(data[:, :, :colour_channels], linear)
+    gray = values[:, :, 0] if colour_channels == 1 else luminance(values)
+    if has_alpha:
+        gray = gray * np.clip(data[:, :, -1], 0.0, 1.0)
+    return np.ascontiguousarray(np.clip(gray, 0.0, 1.0), dtype=np.float32)
+
+
+def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
+    """Read an EXR (or any float image) as stored, without colour conversion.
+
+    Returns ``(data, channels, attributes)``: ``data`` float32 (H, W, C),
+    always three-dimensional; ``channels`` the C channel names in the order
+    ``write_exr`` was given them (OpenEXR itself stores them sorted by name);
+    ``attributes`` every header attribute as name -> Python value (str, int,
+    float or tuple). Raises InputError when the file is missing, a folder,
+    unreadable, truncated, empty, or holds NaN or infinite values.
+    """
+    path = pathlib.Path(path)
+    _check_input_path(path)
+    oiio.geterror()
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path))
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, float("inf"))
+            pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
+            error = inp.geterror() if inp.has_error else ""
+            names = list(spec.channelnames)
+            attributes = {a.name: a.value for a in spec.extra_attribs}
+        finally:
+            inp.close()
+    if pixels is None or error:
+        why = _reason(error or oiio.geterror() or printed.text, "the pixel data could not be read")
+        raise InputError(f"Cannot read the image {path}: {why}.")
+    data = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
+    if not np.all(np.isfinite(data)):
+        raise InputError(f"The image {path} holds NaN or infinite values.")
+    data, names = _restore_channel_order(data, names, attributes.get(_CHANNEL_ORDER_ATTR))
+    return data, names, attributes
+
+
+def _restore_channel_order(data: np.ndarray, names: List[str], order) -> Tuple[np.ndarray, List[str]]:
+    """Reorder (H, W, C) ``data`` and ``names`` to the comma-separated ``order`` when it names the same channels."""
+    if not isinstance(order, str):
+        return data, names
+    wanted = order.split(",")
+    if sorted(wanted) != sorted(names) or len(set(wanted)) != len(wanted):
+        return data, names
+    index = [names.index(n) for n in wanted]
+    return np.ascontiguousarray(data[:, :, index]), wanted
+
+
+# ---------------------------------------------------------------------------
+# writing
+
+
+@contextlib.contextmanager
+def atomic_path(path: PathLike) -> Iterator[pathlib.Path]:
+    """Yield a temporary path beside ``path`` (same folder, same extension last).
+
+    The temporary name is ``.<stem>.tmp-<pid>-<random><suffix>``. On normal
+    exit the temporary file replaces ``path`` (``os.replace``, atomic on one
+    file system); on an exception it is deleted and the exception re-raised,
+    leaving any previous ``path`` untouched. A failed rename raises
+    OutputError.
+    """
+    path = pathlib.Path(path)
+    temp = path.with_name(f".{path.stem}.tmp-{os.getpid()}-{secrets.token_hex(4)}{path.suffix}")
+    try:
+        yield temp
+    except BaseException:
+        _remove_quietly(temp)
+        raise
+    try:
+        os.replace(temp, path)
+    except OSError as exc:
+        _remove_quietly(temp)
+        raise OutputError(f"Cannot write {path}: {_reason(exc.strerror or str(exc), 'the file could not be replaced')}.") from exc
+
+
+def _remove_quietly(path: pathlib.Path) -> None:
+    """Delete ``path`` if it exists; ignore failures."""
+    try:
+        path.unlink()
+    except OSError:
+        pass
+
+
+def ensure_output_dir(path: PathLike) -> pathlib.Path:
+    """Create the folder ``path`` (and its parents) and check a file can be written in it.
+
+    Returns the folder as a ``pathlib.Path``. Raises OutputError ("Cannot
+    write to output folder X: reason.") when it cannot be created or is not
+    writable (checked by creating and deleting a temporary file).
+    """
+    folder = pathlib.Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".paint-relief-probe-{os.getpid()}-{secrets.token_hex(4)}"
+        with open(probe, "wb"):
+            pass
+        probe.unlink()
+    except OSError as exc:
+        why = _reason(exc.strerror or str(exc), "it is not writable").lower()
+        raise OutputError(f"Cannot write to output folder {folder}: {why}.") from exc
+    return folder
+
+
+def _default_channels(count: int) -> Tuple[str, ...]:
+    """Standard EXR channel names for 1, 3 or 4 channels."""
+    names = {1: ("Y",), 3: ("R", "G", "B"), 4: ("R", "G", "B", "A")}
+    if count not in names:
+        raise ValueError(f"Give channel names for {count} channels.")
+    return names[count]
+
+
+def _as_hwc(data: np.ndarray) -> np.ndarray:
+    """(H, W) or (H, W, C) -> contiguous float32 (H, W, C)."""
+    array = np.asarray(data, dtype=np.float32)
+    if array.ndim == 2:
+        array = array[:, :, None]
+    if array.ndim != 3 or array.shape[0] == 0 or array.shape[1] == 0:
+        raise ValueError(f"Image data must be (H, W) or (H, W, C) with H, W > 0, got shape {array.shape}.")
+    return np.ascontiguousarray(array)
+
+
+def _attribute_value(value):
+    """str / int / float (NumPy scalars and bools included) for an OpenImageIO header attribute.
+
+    Integers outside the 32-bit range become decimal text so they are stored exactly.
+    """
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, int) and not -2**31 <= value < 2**31:
+        return str(value)  # header integers hold 32 bits: larger ones are kept exactly as text
+    if isinstance(value, (str, int, float)):
+        return value
+    raise ValueError(f"Header attribute values must be str, int or float, got {type(value).__name__}.")
+
+
+def _write_with_oiio(path: pathlib.Path, spec, pixels: np.ndarray) -> None:
+    """Write ``pixels`` with ``spec`` to ``path`` through a temporary file; OutputError on any failure."""
+    with atomic_path(path) as temp, quiet.captured() as printed:
+        oiio.geterror()
+        out = oiio.ImageOutput.create(str(temp))
+        if out is None:
+            raise OutputError(f"Cannot write {path}: {_reason(oiio.geterror(), 'no writer for this file type')}.")
+        try:
+            ok = out.open(str(temp), spec) and out.write_image(pixels)
+            error = "" if ok else _oiio_error(out)
+        finally:
+            closed = out.close()
+        if not ok or not closed:
+            why = _reason(error or _oiio_error(out) or printed.text, "the image could not be written")
+            raise OutputError(f"Cannot write {path}: {why}.")
+
+
+def write_exr(path: PathLike, data: np.ndarray, channels: Optional[Sequence[str]] = None,
+              half: bool = False, attributes: Optional[Dict[str, object]] = None) -> None:
+    """Write float32 (H, W) or (H, W, C) ``data`` as a zip-compressed OpenEXR file.
+
+    ``channels`` names the C channels (default Y / R,G,B / R,G,B,A for 1 / 3 / 4
+    channels); ``half=True`` stores 16-bit half floats, otherwise 32-bit
+    floats. Values are written as given (scene-linear for colour).
+    ``attributes`` maps header names to str / int / float values (for example
+    "paint_relief:params", "paint_relief:seed"). The channel order is also
+    stored (``paint_relief:channel_order``) so ``read_exr`` returns it. No
+    time stamp is written: the same arguments give the same bytes. The file
+    is written atomically; any failure raises OutputError naming it.
+    """
+    path = pathlib.Path(path)
+    pixels = _as_hwc(data)
+    names = tuple(channels) if channels is not None else _default_channels(pixels.shape[2])
+    if len(names) != pixels.shape[2]:
+        raise ValueError(f"{len(names)} channel names given for {pixels.shape[2]} channels.")
+    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], "half" if half else "float")
+    spec.channelnames = names
+    spec.alpha_channel = names.index("A") if "A" in names else -1
+    spec.attribute("compression", "zip")
+    spec.attribute("DateTime", "")  # an empty DateTime stops OpenImageIO from stamping the current time
+    spec.attribute(_CHANNEL_ORDER_ATTR, ",".join(names))
+    for name, value in (attributes or {}).items():
+        spec.attribute(str(name), _attribute_value(value))
+    _write_with_oiio(path, spec, pixels)
+
+
+PNG_COMPRESSION = 3
+"""zlib level of the PNGs: level 3 is several times faster than the highest and the files about 10 % larger."""
+
+
+def write_png(path: PathLike, data: np.ndarray, bits: int = 8) -> None:
+    """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` in [0, 1] as an 8- or 16-bit PNG.
+
+    Values are quantised as ``floor(v * maxval + 0.5)`` clipped to
+    [0, maxval] (maxval 255 or 65535; NaN becomes 0). Four channels are RGB
+    plus straight (not premultiplied) alpha. Same data gives same bytes; the
+    file is written atomically; failures raise OutputError naming it.
+    """
+    if bits not in (8, 16):
+        raise ValueError(f"PNG bits must be 8 or 16, got {bits}.")
+    pixels = _as_hwc(data)
+    if pixels.shape[2] not in (1, 3, 4):
+        raise ValueError(f"PNG data needs 1, 3 or 4 channels, got {pixels.shape[2]}.")
+    dtype, fmt = (np.uint8, "uint8") if bits == 8 else (np.uint16, "uint16")
+    maxval = float(np.iinfo(dtype).max)
+    values = np.floor(np.nan_to_num(pixels.astype(np.float64), nan=0.0) * maxval + 0.5)
+    quantised = np.ascontiguousarray(np.clip(values, 0.0, maxval).astype(dtype))
+    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], fmt)
+    if pixels.shape[2] == 4:
+        spec.attribute("oiio:UnassociatedAlpha", 1)
+    spec.attribute("DateTime", "")
+    spec.attribute("png:compressionLevel", PNG_COMPRESSION)
+    _write_with_oiio(pathlib.Path(path), spec, quantised)
+
+
+def _json_default(value):
+    """JSON form of NumPy scalars and arrays and of paths."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    raise TypeError(f"Object of type {type(value).__name__} is not JSON serialisable")
+
+
+def write_json(path: PathLike, obj, indent: Optional[int] = 2) -> None:
+    """Write ``obj`` as JSON (``indent`` spaces, None for compact; keys in given order; final newline), atomically.
+
+    NumPy scalars and arrays and paths are converted to plain JSON values.
+    Failures to write raise OutputError naming the file.
+    """
+    separators = None if indent is not None else (",", ":")
+    text = json.dumps(obj, indent=indent, separators=separators, sort_keys=False, default=_json_default) + "\n"
+    write_text(path, text)
+
+
+def write_text(path: PathLike, text: str) -> None:
+    """Write UTF-8 ``text`` atomically; failures raise OutputError naming the file."""
+    path = pathlib.Path(path)
+    with atomic_path(path) as temp:
+        try:
+            temp.write_text(text, encoding="utf-8")
+        except OSError as exc:
+            raise OutputError(f"Cannot write {path}: {_reason(exc.strerror or str(exc), 'the file could not be written')}.") from exc

@@ -1,0 +1,174 @@
+"""The paper's painter, Huang, Fu and Li 2011: ``paint(image, params) -> Painting`` (ALGORITHM §3, §5, §6)."""
+
+from __future__ import annotations
+
+import time
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from ..analysis.run import analyze, check_image
+from ..measures.metrics import psnr
+from ..measures.stroke_metrics import stroke_shape
+from ..params import Params
+from ..progress import CancelFn, ProgressFn, Stage
+from ..results import Analysis, Painting
+from ..strokes.brush import load_brush, tip_cache
+from ..strokes.canvas import Canvas
+from ..strokes.details import detail_anchors, size_map
+from ..strokes.layout import choose_anchor, grid_order, hertzmann_anchors
+from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources, paint_stroke
+from ..version import __version__
+from .styles import get_style
+
+
+def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
+          mask: Optional[np.ndarray] = None) -> Painting:
+    """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke.
+
+    progress(fraction, message) is called now and then; cancel() is polled
+    between strokes and raises Cancelled when it returns True.
+    """
+    params.validate()
+    image = check_image(image)
+    stage = Stage(progress, cancel)
+    brush = load_brush(params.brush)
+    analysis_stage = stage.sub(0.0, 0.15)
+    analysis = analyze(image, params, mask=mask, progress=analysis_stage.report if progress else None,
+                       cancel=cancel)
+    t0 = time.perf_counter()
+    canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
+    tips = tip_cache(brush, analysis.sizes, params.transparency)
+    sources = colour_sources(analysis.reference, analysis.sizes, params)
+    layers_stage = stage.sub(0.15, 0.95 if params.detail_pass else 1.0)
+    if params.layout == "hertzmann98":
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage)
+    else:
+        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage)
+    if params.detail_pass:
+        details = paint_details(canvas, image, analysis, tips, sources, params, len(per_layer),
+                                stage.sub(0.95, 1.0))
+        strokes += details
+        per_layer.append(len(details))
+    seconds = dict(analysis.seconds)
+    seconds["strokes"] = time.perf_counter() - t0
+    statistics = {
+        "strokes": len(strokes),
+        "strokes_per_layer": per_layer,
+        "detail_strokes": per_layer[-1] if params.detail_pass else 0,
+        "stroke_shape": stroke_shape(strokes),
+        "grids": int(len(analysis.grids)),
+        "psnr_db": round(psnr(canvas.colour, image), 3),
+        "seconds": {k: round(v, 4) for k, v in seconds.items()},
+        "width": int(image.shape[1]),
+        "height": int(image.shape[0]),
+        "height_mode": params.height_mode,
+        "seed": params.seed,
+        "version": __version__,
+        "method": params.method,
+        "style": params.style.strip().lower().replace("-", "_"),
+        "layout": params.layout,
+        "renderer": params.renderer,
+    }
+    stage.report(1.0, f"Painted {len(strokes)} strokes")
+    return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
+                    strokes, analysis, params, statistics)
+
+
+def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: dict,
+                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
+    """The detail pass: strokes of the smallest brush on small features the layers missed (``core.strokes.details``).
+
+    It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
+    reference: an edge-preserving denoise halves the contrast of features a
+    pixel or two wide, which are exactly the lights, glints and wires this
+    pass is for. Each anchor is checked again just before its stroke, since
+    an earlier detail stroke may already have painted it.
+    """
+    smallest = min(analysis.sizes)
+    anchors = detail_anchors(image, canvas.colour,
+                             size_map(analysis.grids, analysis.grid_sizes, canvas.height.shape),
+                             {s: sources[s].edges for s in analysis.sizes}, smallest, params.difference_threshold)
+    rng = np.random.default_rng([params.seed, layer])
+    exact = detail_sources(image)
+    limit = params.difference_threshold ** 2
+    strokes: List[Stroke] = []
+    for done, (x, y) in enumerate(anchors.tolist()):
+        miss = image[y, x] - canvas.colour[y, x]
+        if float(miss @ miss) > limit:
+            strokes.append(paint_stroke(canvas, exact, analysis.orientation, (x, y), smallest, layer,
+                                        tips[smallest], rng, params))
+        stage.check()
+        if done % 200 == 0:
+            stage.report(done / max(1, len(anchors)), f"Details: {len(strokes)} strokes")
+    return strokes
+
+
+def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
+                 params: Params, stage: Stage) -> tuple:
+    """Run every layer over every grid (largest first); returns (strokes, strokes per layer)."""
+    rng = np.random.default_rng(params.seed)
+    order = grid_order(analysis.grids)
+    grids = analysis.grids[order].tolist()
+    sizes = analysis.grid_sizes[order].tolist()
+    strokes: List[Stroke] = []
+    per_layer: List[int] = []
+    total = params.layers * len(grids)
+    done = 0
+    last_report = time.monotonic()
+    for layer in range(params.layers):
+        count = 0
+        for grid, size in zip(grids, sizes, strict=True):
+            done += 1
+            anchor = choose_anchor(grid, canvas.coverage, canvas.colour, analysis.reference,
+                                   params.coverage_threshold, params.difference_threshold, rng)
+            if anchor is not None:
+                strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size,
+                                            layer, tips[size], rng, params))
+                count += 1
+            stage.check()
+            if time.monotonic() - last_report > 0.1:
+                last_report = time.monotonic()
+                stage.report(done / total, f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
+        per_layer.append(count)
+    return strokes, per_layer
+
+
+def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
+                             params: Params, stage: Stage) -> tuple:
+    """The Fig. 8b ablation: the paper's strokes on Hertzmann 1998's layered layout.
+
+    One layer per standard stroke size (largest first; params.layers is not
+    used). A layer tiles the canvas with cells of max(1, int(f_g * size / 2))
+    px, finds the cells whose mean error |reference - canvas| (Euclidean RGB
+    on 0-255, +inf where the coverage is 0) exceeds the style's T, anchors a
+    stroke at each such cell's max-error pixel, and paints those strokes in a
+    random (seeded) order with the paper's brush, colours and relief against
+    the paper's bilateral reference and orientation field. Anchors come from
+    the canvas at the start of the layer; each stroke's path is planned when
+    it is painted. Returns (strokes, strokes per layer).
+    """
+    style = get_style(params.style)
+    rng = np.random.default_rng(params.seed)
+    reference = analysis.reference
+    strokes: List[Stroke] = []
+    per_layer: List[int] = []
+    last_report = time.monotonic()
+    sizes = list(analysis.sizes)
+    for layer, size in enumerate(sizes):
+        diff = reference - canvas.colour
+        error = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff, dtype=np.float64)) * 255.0
+        error[canvas.coverage <= 0.0] = np.inf
+        anchors = hertzmann_anchors(error, max(1, int(style.grid * size / 2.0)), style.threshold)
+        order = rng.permutation(len(anchors))
+        for done, i in enumerate(order.tolist()):
+            anchor = (int(anchors[i, 0]), int(anchors[i, 1]))
+            strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size, layer,
+                                        tips[size], rng, params))
+            stage.check()
+            if time.monotonic() - last_report > 0.1:
+                last_report = time.monotonic()
+                stage.report((layer + done / max(1, len(order))) / len(sizes),
+                             f"Layer {layer + 1}/{len(sizes)}: {len(strokes)} strokes")
+        per_layer.append(len(order))
+    return strokes, per_layer

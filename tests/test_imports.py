@@ -1,0 +1,179 @@
+"""The import graph of core/ and addon/: no cycles, and core's stages import only downwards.
+
+Every module is parsed (never imported), and every import statement counts,
+the deferred ones inside functions included. Relative imports are resolved
+against the importing module's package; ``from package import name`` is an
+import of the submodule ``package.name`` when there is one, else of the
+package itself.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+TOP_PACKAGES = ("core", "addon")
+
+# core's layers, lowest first: a module may import modules of its own layer or of a lower one, never of a higher
+# one. Within a package (one layer) the cycle test keeps the order. The base holds what every stage shares.
+CORE_LAYERS = [
+    ("base", {"core.errors", "core.version", "core.params", "core.progress", "core.colour", "core.results"}),
+    ("lighting", {"core.lighting"}),
+    ("files", {"core.files"}),
+    ("analysis", {"core.analysis"}),
+    ("strokes", {"core.strokes"}),
+    ("measures", {"core.measures"}),
+    ("methods", {"core.methods"}),
+    ("figures", {"core.figures"}),
+    ("api", {"core.api"}),
+    ("evaluation", {"core.evaluation"}),
+    ("entry", {"core", "core.cli", "core.__main__"}),
+]
+
+
+def module_name(path: Path) -> str:
+    """core/files/io.py -> core.files.io; core/files/__init__.py -> core.files."""
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def all_modules() -> dict:
+    """{module name: path} of every .py file under core/ and addon/."""
+    found = {}
+    for top in TOP_PACKAGES:
+        for path in sorted((ROOT / top).rglob("*.py")):
+            found[module_name(path)] = path
+    return found
+
+
+def imports_of(name: str, path: Path, known) -> set:
+    """The modules among ``known`` that module ``name`` (file ``path``) imports anywhere in its body."""
+    is_package = path.name == "__init__.py"
+    package = name.split(".") if is_package else name.split(".")[:-1]
+    targets = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), filename=str(path))):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name in known:
+                    targets.add(alias.name)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                # The extension's root package (the repository root) is the empty prefix: `from .. import core`
+                # in addon/x.py names core.
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                assert node.level - 1 <= len(package), f"{path}: relative import above the extension"
+                base = base + (node.module.split(".") if node.module else [])
+            else:
+                base = node.module.split(".")
+            base_name = ".".join(base)
+            for alias in node.names:
+                sub = f"{base_name}.{alias.name}" if base_name else alias.name
+                if sub in known:
+                    targets.add(sub)
+                elif base_name in known:
+                    targets.add(base_name)
+    targets.discard(name)
+    return targets
+
+
+def import_graph() -> dict:
+    known = all_modules()
+    return {name: imports_of(name, path, known) for name, path in known.items()}
+
+
+def cycles(graph: dict) -> list:
+    """Strongly connected components of more than one module (Tarjan), each sorted."""
+    index, low, stack, on_stack, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def layer_of(module: str) -> int:
+    """Index in CORE_LAYERS of a core module: its own entry, else its package's."""
+    for exact in (True, False):
+        for i, (_, members) in enumerate(CORE_LAYERS):
+            for member in members:
+                if module == member or (not exact and member != "core" and module.startswith(member + ".")):
+                    return i
+    raise AssertionError(f"{module} belongs to no layer of CORE_LAYERS")
+
+
+def test_graph_is_read():
+    graph = import_graph()
+    assert "core.methods.registry" in graph and "addon.ops_paint" in graph
+    assert "core.methods.huang11" in graph["core.methods.registry"]
+    assert "core.files.io" in graph["core.strokes.brush"]  # a deferred import counts
+    assert "core" in graph["addon.ops_paint"]  # `from .. import core`, resolved
+
+
+def test_no_import_cycles():
+    found = cycles(import_graph())
+    assert not found, "import cycles: " + "; ".join(" <-> ".join(c) for c in found)
+
+
+def test_cycle_finder_finds_a_deferred_cycle(tmp_path):
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert cycles(graph) == [["a", "b", "c"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_relative_imports_are_resolved(tmp_path):
+    pkg = tmp_path / "core" / "stage"
+    pkg.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    source = pkg / "mod.py"
+    source.write_text("from . import other\nfrom ..base import thing\n\ndef f():\n    from .deep import x\n")
+    known = {"core", "core.base", "core.stage", "core.stage.other", "core.stage.deep"}
+    assert imports_of("core.stage.mod", source, known) == {"core.stage.other", "core.base", "core.stage.deep"}
+
+
+@pytest.mark.parametrize("module", sorted(m for m in all_modules() if m == "core" or m.startswith("core.")))
+def test_core_imports_run_down_the_layers(module):
+    graph = import_graph()
+    mine = layer_of(module)
+    upward = [t for t in sorted(graph[module]) if t.startswith("core") and layer_of(t) > mine]
+    assert not upward, f"{module} ({CORE_LAYERS[mine][0]}) imports higher layers: {upward}"
+
+
+def test_core_never_imports_addon_or_bpy():
+    for name, path in all_modules().items():
+        if name.startswith("core"):
+            tree = ast.parse(path.read_text(encoding="utf-8"))
+            names = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+            names |= {(n.module or "").split(".")[0] for n in ast.walk(tree)
+                      if isinstance(n, ast.ImportFrom) and n.level == 0}
+            assert not names & {"bpy", "addon"}, f"{name} imports {names & {'bpy', 'addon'}}"
+
+
+def test_no_core_folder_holds_more_than_12_modules():
+    for folder in [ROOT / "core", *[p for p in (ROOT / "core").rglob("*") if p.is_dir()]]:
+        if folder.name != "__pycache__":
+            modules = [p for p in folder.glob("*.py") if p.name not in ("__init__.py", "__main__.py")]
+            assert len(modules) <= 12, f"{folder} holds {len(modules)} modules"
