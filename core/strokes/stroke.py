@@ -269,7 +269,7 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
     colour C = a C_stroke + (1 - a) C; coverage 1 - (1 - cov)(1 - a);
     stroke height h = alpha sqrt(1 - (d / radius)^2) (a rounded profile across
     the stroke); height H + o h - o f k H with f = o and k = 1 ('over') or
-    1 - build ('accumulate'), as core/canvas.py; opacity A = a + (1 - a) A (a stroke of
+    1 - build ('accumulate'), as core/strokes/canvas.py; opacity A = a + (1 - a) A (a stroke of
     opacity alpha lets the canvas show through). When ``orientation`` (H, W)
     is given, pixels with a >= 0.5 take the direction (mod pi) of their
     nearest segment.
