@@ -1,12 +1,23 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Everything that touches ``bpy``: settings, operators and panels.
 
+Sub-packages by what they do: ``settings/`` (scene settings, preferences,
+presets), ``scene/`` (canvas, camera, lights and the operators that stage
+them), ``painting/`` (the Paint operator), ``comparison/`` (the lighting
+comparison's render sweep, operator and command). At the top: ``values``
+(pure helpers, no ``bpy``), ``dependencies`` (the painter's libraries),
+``panels`` (the sidebar) and ``cli_command`` (``blender --command``).
+
 Each module lists its classes in ``classes``; they are registered in that order
 and unregistered in reverse, so enabling, disabling and enabling again leaves
 no stale classes or properties behind.
 """
 
-from . import cli_command, dropped, ops_compare, ops_paint, ops_scene, panels, preferences, presets, properties
+from . import cli_command, panels
+from .comparison import ops_compare
+from .painting import dropped, ops_paint
+from .scene import ops_scene
+from .settings import preferences, presets, properties
 
 # Register order matters: property groups first, panels (which name the operators) last.
 _modules = (properties, preferences, ops_paint, ops_scene, ops_compare, presets, dropped, panels, cli_command)

@@ -40,7 +40,7 @@ def _paint(argv):
 
 
 def _canvas_parser():
-    from .compare_command import Parser
+    from .comparison.compare_command import Parser
 
     parser = Parser(prog="blender --command paint_relief canvas",
                     description="Build a Paint Relief canvas from a painted folder in an empty scene and save it.")
@@ -83,7 +83,7 @@ def _canvas(argv):
 
 
 def _compare(argv):
-    from . import compare_command
+    from .comparison import compare_command
 
     return compare_command.main(["compare", "--", *argv], prog="blender --command paint_relief compare")
 

@@ -11,8 +11,9 @@ import os
 import bpy
 from bpy.types import Panel
 
-from . import properties, values
-from .presets import PAINT_RELIEF_MT_paint_presets
+from . import values
+from .settings import properties
+from .settings.presets import PAINT_RELIEF_MT_paint_presets
 
 
 class _PaintReliefPanel:

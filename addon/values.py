@@ -112,7 +112,7 @@ def wave_scale_for_period(period):
     return 2.0 * math.pi / (20.0 * period)
 
 
-# --- the lighting comparison (addon/compare.py, sample_scenes/compare.py) ---------
+# --- the lighting comparison (addon/comparison/, sample_scenes/compare.py) ---------
 
 def sweep_azimuths(count):
     """``count`` light azimuths in degrees, evenly spaced from 0: [0, 360/count, ...].

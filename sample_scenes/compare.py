@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Launch the lighting comparison from a checkout (addon/compare_command.py has the whole run and its options).
+"""Launch the lighting comparison from a checkout (addon/comparison/compare_command.py has the whole run and its options).
 
     blender -b --python-exit-code 1 --python sample_scenes/compare.py -- INPUT -o OUTDIR [options]
     .venv/bin/python sample_scenes/compare.py INPUT -o OUTDIR [options]
@@ -25,7 +25,7 @@ def extension_package():
     import bpy
 
     if hasattr(bpy.types, "PAINT_RELIEF_OT_build_canvas"):
-        module = bpy.types.PAINT_RELIEF_OT_build_canvas.__module__  # "<package>.addon.ops_scene"
+        module = bpy.types.PAINT_RELIEF_OT_build_canvas.__module__  # "<package>.addon.scene.ops_scene"
         return importlib.import_module(module.rpartition(".addon.")[0])
     spec = importlib.util.spec_from_file_location(PACKAGE, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
     package = importlib.util.module_from_spec(spec)
@@ -36,5 +36,5 @@ def extension_package():
 
 if __name__ == "__main__":
     package = extension_package()
-    command = importlib.import_module(package.__name__ + ".addon.compare_command")
+    command = importlib.import_module(package.__name__ + ".addon.comparison.compare_command")
     sys.exit(command.main(sys.argv))

@@ -142,17 +142,21 @@ def test_packages_hold_the_extension_and_nothing_else(built_zips):
     manifest = _manifest()
     core_files = sorted(p.relative_to(REPO).as_posix() for p in (REPO / "core").glob("*.py"))
     assert core_files, "core/ has no Python files"
+    addon_files = sorted(p.relative_to(REPO).as_posix() for p in (REPO / "addon").rglob("*.py"))
     for zip_path in built_zips.values():
         with zipfile.ZipFile(zip_path) as archive:
             infos = archive.infolist()
         names = {info.filename for info in infos}
         own = sum(info.compress_size for info in infos if not info.filename.startswith("wheels/"))
         assert own < MAX_ZIP_BYTES, "{} holds {} bytes besides its wheels".format(zip_path.name, own)
-        for required in ("blender_manifest.toml", "__init__.py", "addon/__init__.py", "addon/properties.py",
-                         "addon/panels.py", "addon/ops_paint.py", "addon/ops_scene.py", "addon/canvas.py"):
+        for required in ("blender_manifest.toml", "__init__.py", "addon/__init__.py",
+                         "addon/settings/properties.py", "addon/panels.py", "addon/painting/ops_paint.py",
+                         "addon/scene/ops_scene.py", "addon/scene/canvas.py", "addon/comparison/compare.py"):
             assert required in names, "{} is missing from {}".format(required, zip_path.name)
         missing = [name for name in core_files if name not in names]
         assert not missing, "core files missing from {}: {}".format(zip_path.name, missing)
+        missing = [name for name in addon_files if name not in names]
+        assert not missing, "addon files missing from {}: {}".format(zip_path.name, missing)
 
         wheels = sorted(name for name in names if name.startswith("wheels/"))
         assert len(wheels) == 2 and all("./" + w in manifest["wheels"] for w in wheels), (zip_path.name, wheels)

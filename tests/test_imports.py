@@ -1,4 +1,4 @@
-"""The import graph of core/ and addon/: no cycles, and core's stages import only downwards.
+"""The import graph of core/ and addon/: no cycles, and the packages of each import only downwards.
 
 Every module is parsed (never imported), and every import statement counts,
 the deferred ones inside functions included. Relative imports are resolved
@@ -30,6 +30,21 @@ CORE_LAYERS = [
     ("evaluation", {"core.evaluation"}),
     ("entry", {"core", "core.cli", "core.__main__"}),
 ]
+
+# addon's layers, lowest first, by the same rule. The base is what every part shares (pure helpers, the painter's
+# libraries); the scene builders come next; the settings sit above them because their update callbacks change the
+# canvas and lights; the operators of painting and of the comparison read the settings; the sidebar names them all;
+# the command line and the package's register/unregister are the entry points.
+ADDON_LAYERS = [
+    ("base", {"addon.values", "addon.dependencies"}),
+    ("scene", {"addon.scene"}),
+    ("settings", {"addon.settings"}),
+    ("painting", {"addon.painting"}),
+    ("comparison", {"addon.comparison"}),
+    ("panels", {"addon.panels"}),
+    ("entry", {"addon", "addon.cli_command"}),
+]
+MAX_MODULES_PER_FOLDER = 12
 
 
 def module_name(path: Path) -> str:
@@ -115,22 +130,24 @@ def cycles(graph: dict) -> list:
     return found
 
 
-def layer_of(module: str) -> int:
-    """Index in CORE_LAYERS of a core module: its own entry, else its package's."""
+def layer_of(module: str, layers=CORE_LAYERS) -> int:
+    """Index in ``layers`` of a module: its own entry, else its package's (a top package holds only itself)."""
+    tops = set(TOP_PACKAGES)
     for exact in (True, False):
-        for i, (_, members) in enumerate(CORE_LAYERS):
+        for i, (_, members) in enumerate(layers):
             for member in members:
-                if module == member or (not exact and member != "core" and module.startswith(member + ".")):
+                if module == member or (not exact and member not in tops and module.startswith(member + ".")):
                     return i
-    raise AssertionError(f"{module} belongs to no layer of CORE_LAYERS")
+    raise AssertionError(f"{module} belongs to no layer")
 
 
 def test_graph_is_read():
     graph = import_graph()
-    assert "core.methods.registry" in graph and "addon.ops_paint" in graph
+    assert "core.methods.registry" in graph and "addon.painting.ops_paint" in graph
     assert "core.methods.huang11" in graph["core.methods.registry"]
     assert "core.files.io" in graph["core.strokes.brush"]  # a deferred import counts
-    assert "core" in graph["addon.ops_paint"]  # `from .. import core`, resolved
+    assert "core" in graph["addon.painting.ops_paint"]  # `from ... import core`, resolved
+    assert "addon.scene.canvas" in graph["addon.settings.properties"]  # `from ..scene import canvas`, deferred
 
 
 def test_no_import_cycles():
@@ -162,6 +179,14 @@ def test_core_imports_run_down_the_layers(module):
     assert not upward, f"{module} ({CORE_LAYERS[mine][0]}) imports higher layers: {upward}"
 
 
+@pytest.mark.parametrize("module", sorted(m for m in all_modules() if m == "addon" or m.startswith("addon.")))
+def test_addon_imports_run_down_the_layers(module):
+    graph = import_graph()
+    mine = layer_of(module, ADDON_LAYERS)
+    upward = [t for t in sorted(graph[module]) if t.startswith("addon") and layer_of(t, ADDON_LAYERS) > mine]
+    assert not upward, f"{module} ({ADDON_LAYERS[mine][0]}) imports higher layers: {upward}"
+
+
 def test_core_never_imports_addon_or_bpy():
     for name, path in all_modules().items():
         if name.startswith("core"):
@@ -172,8 +197,18 @@ def test_core_never_imports_addon_or_bpy():
             assert not names & {"bpy", "addon"}, f"{name} imports {names & {'bpy', 'addon'}}"
 
 
-def test_no_core_folder_holds_more_than_12_modules():
-    for folder in [ROOT / "core", *[p for p in (ROOT / "core").rglob("*") if p.is_dir()]]:
-        if folder.name != "__pycache__":
-            modules = [p for p in folder.glob("*.py") if p.name not in ("__init__.py", "__main__.py")]
-            assert len(modules) <= 12, f"{folder} holds {len(modules)} modules"
+def package_folders() -> list:
+    """Every folder of core/ and addon/, the two top folders included."""
+    return [folder for top in TOP_PACKAGES for folder in [ROOT / top, *sorted((ROOT / top).rglob("*"))]
+            if folder.is_dir() and folder.name != "__pycache__"]
+
+
+def test_folders_are_read():
+    folders = {folder.relative_to(ROOT).as_posix() for folder in package_folders()}
+    assert {"core", "core/methods", "addon", "addon/scene"} <= folders
+
+
+@pytest.mark.parametrize("folder", [f.relative_to(ROOT).as_posix() for f in package_folders()])
+def test_no_folder_holds_more_than_12_modules(folder):
+    modules = [p for p in (ROOT / folder).glob("*.py") if p.name not in ("__init__.py", "__main__.py")]
+    assert len(modules) <= MAX_MODULES_PER_FOLDER, f"{folder} holds {len(modules)} modules"

@@ -162,7 +162,7 @@ def main(work, render):
         settings.thickness_mm = 2.0
         settings.displacement_method = "MESH"
         result, error = run_op(ops.build_canvas)
-        from paint_relief.addon import canvas
+        from paint_relief.addon.scene import canvas
 
         obj = canvas.find_role(scene, "canvas")
         material = obj.active_material
@@ -201,7 +201,7 @@ def main(work, render):
         before = counts(bpy)
         settings.displacement_method = "CYCLES_ADAPTIVE"
         result, error = run_op(ops.build_canvas)
-        from paint_relief.addon import canvas
+        from paint_relief.addon.scene import canvas
 
         canvases = [o.name for o in scene.objects if o.get(canvas.ROLE_KEY) == "canvas"]
         obj = bpy.data.objects[canvases[0]]
@@ -228,7 +228,7 @@ def main(work, render):
         first = counts(bpy)
         results.append(run_op(ops.add_lights)[0])
         second = counts(bpy)
-        from paint_relief.addon import canvas
+        from paint_relief.addon.scene import canvas
 
         key = canvas.find_role(scene, "key_light")
         direction = key.matrix_world.to_3x3() @ __import__("mathutils").Vector((0.0, 0.0, 1.0))
@@ -262,7 +262,7 @@ def main(work, render):
             # colour map's own values: it shows framing, orientation and the EXR colour
             # space. (Blender 5.0's bpy module writes no extra passes such as DiffCol into
             # a multilayer EXR here, so the Combined pass of an Emission shader is used.)
-            from paint_relief.addon import canvas
+            from paint_relief.addon.scene import canvas
 
             material = canvas.find_role(scene, "canvas").active_material
             tree = material.node_tree

@@ -80,7 +80,8 @@ def main(work):
 
     load_package()
     from paint_relief import core
-    from paint_relief.addon import canvas, compare
+    from paint_relief.addon.comparison import compare
+    from paint_relief.addon.scene import canvas
     from paint_relief.core.colour import linear_to_srgb, luminance, srgb_to_linear
     from paint_relief.core.files import io
     from paint_relief.core.lighting import bump_lighting

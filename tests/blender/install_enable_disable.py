@@ -37,7 +37,7 @@ SEEN_CLASSES = set()
 def extension_classes():
     """Return the classes the loaded ``addon`` modules declare, remembering them."""
     classes = set()
-    for name in ("properties", "ops_paint", "ops_scene", "panels"):
+    for name in ("settings.properties", "painting.ops_paint", "scene.ops_scene", "panels"):
         module = sys.modules.get("{:s}.addon.{:s}".format(MODULE, name))
         if module is not None:
             classes.update(module.classes)
@@ -96,7 +96,7 @@ def main(zip_path):
     scene = bpy.context.scene
     scene.paint_relief.image_path = "//photo.png"
     check(scene.paint_relief.image_path == "//photo.png", "scene.paint_relief.image_path did not keep its value")
-    properties = sys.modules[MODULE + ".addon.properties"]
+    properties = sys.modules[MODULE + ".addon.settings.properties"]
     chosen = os.path.join(user_resources, "chosen")
     bpy.context.preferences.addons[MODULE].preferences.output_dir = chosen
     out_dir = properties.output_dir(bpy.context)

@@ -129,8 +129,8 @@ def main(zip_path, work):
             found["chart_title_dark_pixels"] = int((chart[5:30, 70:400].max(axis=2) < 0.5).sum())
         return found
 
-    canvas_mod = import_module(MODULE + ".addon.canvas")
-    jobs = import_module(MODULE + ".addon.jobs")
+    canvas_mod = import_module(MODULE + ".addon.scene.canvas")
+    jobs = import_module(MODULE + ".addon.painting.jobs")
     cli_command = import_module(MODULE + ".addon.cli_command")
 
     @step

@@ -8,7 +8,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 from bpy.types import PropertyGroup
 
-from . import values
+from .. import values
 
 # Sub-folder of the saved .blend file's folder used for outputs by default.
 BLEND_RELATIVE_OUTPUT_DIR = "//paint_relief/"
@@ -69,7 +69,7 @@ def comparison_dir(context, painting_dir):
 
 def _update_relief(self, context):
     """Live update: the scene's canvases take the new paint thickness at once (no rebuild)."""
-    from . import canvas
+    from ..scene import canvas
 
     for obj in canvas.canvases(context.scene):
         canvas.set_thickness(obj, self.thickness_mm / 1000.0)
@@ -77,7 +77,7 @@ def _update_relief(self, context):
 
 def _update_lights(self, context):
     """Live update: the key and fill lights follow the azimuth and elevation at once (when they exist)."""
-    from . import canvas, lighting
+    from ..scene import canvas, lighting
 
     if canvas.find_role(context.scene, "key_light") is not None:
         lighting.aim_lights(context.scene, self.light_azimuth, self.light_elevation, self.light_strength)

@@ -15,7 +15,9 @@ import threading
 import bpy
 from bpy.types import Operator
 
-from . import dependencies, jobs, properties, values
+from .. import dependencies, values
+from ..settings import properties
+from . import jobs
 
 # Seconds between the modal operator's progress updates.
 TIMER_INTERVAL = 0.1
@@ -26,7 +28,7 @@ def params_from_settings(settings):
 
     Imports the painter (core) lazily: call only while an operator runs.
     """
-    from .. import core
+    from ... import core
 
     sizes = values.parse_sizes(settings.stroke_sizes)
     if settings.brush == "CUSTOM":
@@ -82,7 +84,7 @@ def _prepare(operator, context):
     if missing is not None:
         operator.report({"ERROR"}, missing)
         return None
-    from .. import core
+    from ... import core
 
     settings = context.scene.paint_relief
     if jobs.is_running(context.scene):
@@ -121,7 +123,7 @@ class PAINT_RELIEF_OT_paint(Operator):
         return bool(settings.image if settings.source == "BLEND_IMAGE" else settings.image_path)
 
     def execute(self, context):
-        from .. import core
+        from ... import core
 
         prepared = _prepare(self, context)
         if prepared is None:
@@ -164,7 +166,7 @@ class PAINT_RELIEF_OT_paint(Operator):
 
     def _work(self, image_path, out_dir, params, mask):
         """Worker thread: the painter only; never touches bpy data."""
-        from .. import core
+        from ... import core
 
         state = self._state
 

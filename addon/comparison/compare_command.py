@@ -24,7 +24,7 @@ Steps, each printed with its time:
    white paint renders 1.0) and the orthographic camera; Cycles on the CPU,
    render size = map size (100 %), 'Standard' view, float RGB OpenEXR;
 4. renders: for every azimuth, ``OUTDIR/renders/relief_AAA.exr`` and, with
-   the relief switched off, ``flat_AAA.exr`` (``addon/compare.py``);
+   the relief switched off, ``flat_AAA.exr`` (``addon/comparison/compare.py``);
 5. ``OUTDIR/scene.blend``;
 6. ``core.evaluation.comparison.run_comparison`` writes comparison.json, comparison.md,
    comparison.png, correlation.png and light_sweep.gif into OUTDIR.
@@ -169,7 +169,7 @@ def load_extension():
     """The Paint Relief package this module belongs to, with its operators registered (registered here if not)."""
     import bpy
 
-    package = importlib.import_module(__package__.rpartition(".")[0])
+    package = importlib.import_module(__name__.rpartition(".addon.")[0])
     if not hasattr(bpy.types, "PAINT_RELIEF_OT_build_canvas"):
         package.register()
     missing = package.addon.dependencies.problem()
@@ -263,8 +263,8 @@ def stage_scene(package, args, painting_dir, azimuths):
     run_operator(ops.build_canvas)
     run_operator(ops.add_lights)
     run_operator(ops.add_camera)
-    package.addon.compare.configure_render(scene, args.samples)
-    return package.addon.canvas.find_role(scene, "canvas")
+    package.addon.comparison.compare.configure_render(scene, args.samples)
+    return package.addon.scene.canvas.find_role(scene, "canvas")
 
 
 def main(argv, prog=None):
@@ -287,7 +287,7 @@ def main(argv, prog=None):
         package, where = load_extension()
         core = importlib.import_module(package.__name__ + ".core")
         core_io = importlib.import_module(core.__name__ + ".files.io")
-        importlib.import_module(package.__name__ + ".addon.compare")
+        importlib.import_module(package.__name__ + ".addon.comparison.compare")
         log.say("    from {}".format(where))
         values = package.addon.values
         azimuths = values.sweep_azimuths(args.azimuths)
@@ -304,7 +304,7 @@ def main(argv, prog=None):
             args.method, args.thickness_mm))
         with _quiet_stdout(args.quiet):
             canvas_obj = stage_scene(package, args, painting_dir, azimuths)
-        compare = package.addon.compare
+        compare = package.addon.comparison.compare
 
         log.step("renders", "Rendering {} lights x (relief, flat) with Cycles, {} samples, elevation {:g} degrees"
                  .format(len(azimuths), args.samples, args.elevation))

@@ -3,7 +3,7 @@
 
 It renders the canvas under a sweep of the key light (the scene's light
 elevation, ``compare_azimuths`` directions), with and without relief
-(addon/compare.py, shared with sample_scenes/compare.py), then has
+(addon/comparison/compare.py, shared with sample_scenes/compare.py), then has
 ``core.evaluation.comparison.run_comparison`` compare the renders with the painter's
 2-D lighting models. Outputs go to the comparison folder: renders/,
 comparison.json, comparison.md, comparison.png, correlation.png,
@@ -22,7 +22,10 @@ import os
 import bpy
 from bpy.types import Operator
 
-from . import camera, canvas, compare, dependencies, lighting, properties, values
+from .. import dependencies, values
+from ..scene import camera, canvas, lighting
+from ..settings import properties
+from . import compare
 
 # Seconds between the modal operator's steps (one render per step).
 TIMER_INTERVAL = 0.05
@@ -92,7 +95,7 @@ def prepare(context):
 
 def finish(job, progress=None):
     """Compare the renders of ``job`` with the 2-D models; return the comparison's dict."""
-    from .. import core
+    from ... import core
 
     return compare.compare(core, job.painting_dir, job.renders_dir, job.azimuths, job.elevation_deg, job.out_dir,
                            relief_px=compare.relief_pixels(job.canvas), progress=progress)
@@ -100,7 +103,7 @@ def finish(job, progress=None):
 
 def _message(error, doing):
     """One line for an exception: the sentence our own errors carry, else what was being done."""
-    from .. import core
+    from ... import core
 
     if isinstance(error, (compare.SweepError, canvas.CanvasError, core.PaintReliefError, ValueError)):
         return " ".join(str(error).split())

@@ -34,7 +34,7 @@ import os
 
 import bpy
 
-from . import values
+from .. import values
 
 ROLE_KEY = "paint_relief_role"
 MAP_SIZE_KEY = "paint_relief_map_size"
@@ -144,7 +144,7 @@ def load_maps(folder, names=values.CANVAS_MAPS):
     for path in paths.values():
         if not os.path.isfile(path):
             raise CanvasError("Painted map {} does not exist; paint first or choose a painted folder.".format(path))
-    from .. import core
+    from ... import core
 
     try:  # Blender only ever receives maps OpenImageIO read in full: finite, expected channels, equal sizes
         core.check_maps(folder, values.CANVAS_MAPS)

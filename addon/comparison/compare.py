@@ -24,7 +24,8 @@ import os
 import bpy
 from mathutils import Vector
 
-from . import canvas, lighting, values
+from .. import values
+from ..scene import canvas, lighting
 
 # Cycles settings of the comparison renders.
 PIXEL_FILTER = "BOX"

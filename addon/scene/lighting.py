@@ -16,7 +16,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from . import values
+from .. import values
 from .canvas import ROLE_KEY, find_role, link_new_object
 
 KEY_NAME = "Paint Relief Key"

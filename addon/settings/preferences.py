@@ -15,10 +15,11 @@ import bpy
 from bpy.props import StringProperty
 from bpy.types import AddonPreferences
 
-# ``__package__`` here is "<extension package>.addon"; the extension package
-# (``bl_ext.<repository>.paint_relief`` when installed) is its parent. Blender
-# keys preferences and per-extension user folders by that parent name.
-EXTENSION_PACKAGE = __package__.rpartition(".")[0]
+# ``__name__`` here is "<extension package>.addon.settings.preferences"; the
+# extension package (``bl_ext.<repository>.paint_relief`` when installed) is
+# what comes before ".addon.". Blender keys preferences and per-extension user
+# folders by that name.
+EXTENSION_PACKAGE = __name__.rpartition(".addon.")[0]
 
 HOME_FOLDER_NAME = "Paint Relief"
 
