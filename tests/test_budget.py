@@ -50,8 +50,11 @@ def test_bomb_check(tmp_path):
     with pytest.raises(InputError, match="decompression bomb"):
         budget.check_bomb(path, 7000, 7000)
     budget.check_bomb(path, 2000, 2000)  # below BOMB_MIN_PIXELS: allowed
-    path.write_bytes(b"x" * 50_000)
-    budget.check_bomb(path, 7000, 7000)  # under 2000 pixels per byte: allowed
+    path.write_bytes(b"x" * 60_000)                      # 817 pixels per byte: a flat colour at zlib's best
+    with pytest.raises(InputError, match="decompression bomb"):
+        budget.check_bomb(path, 7000, 7000)
+    path.write_bytes(b"x" * 200_000)
+    budget.check_bomb(path, 7000, 7000)  # under 500 pixels per byte: allowed
 
 
 def test_estimate_bounds_a_measured_run(tmp_path):

@@ -34,7 +34,7 @@ MASK_BYTES_PER_PIXEL = 16
 BASE_BYTES = 200 * 2**20
 """Python, NumPy, SciPy and OpenImageIO themselves, and the stroke list."""
 
-BOMB_PIXELS_PER_BYTE = 2000.0
+BOMB_PIXELS_PER_BYTE = 500.0
 """An image stored in fewer than 1 byte per this many pixels is a decompression bomb (above BOMB_MIN_PIXELS)."""
 BOMB_MIN_PIXELS = 16_000_000
 
