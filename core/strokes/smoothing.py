@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, Iterable
 
 import numpy as np
 from scipy import ndimage
@@ -85,8 +84,3 @@ def smooth(image: np.ndarray, sigma: float) -> SmoothedImage:
     rest = math.sqrt(max(sigma * sigma - (factor * factor - 1) / 12.0, 0.0)) / factor
     pixels = ndimage.gaussian_filter(block_mean(image, factor), sigma=(rest, rest, 0), mode="reflect")
     return SmoothedImage(pixels.astype(np.float32), factor, float(sigma))
-
-
-def smoothed_per_size(image: np.ndarray, sizes: Iterable[int], fraction: float) -> Dict[int, SmoothedImage]:
-    """{size: ``image`` smoothed by sigma = fraction x size px} for each brush width (px)."""
-    return {int(s): smooth(image, fraction * float(s)) for s in sizes}
