@@ -14,6 +14,9 @@ from scipy import ndimage
 
 from ..colour import luminance
 
+CHUNK_PIXELS = 1 << 20
+"""The bilateral grid is splatted and read back this many pixels at a time."""
+
 
 def bilateral_filter(image: np.ndarray, sigma_spatial: float, sigma_range: float) -> np.ndarray:
     """Edge-preserving smoothing of each channel, guided by that channel's own values.
@@ -48,19 +51,25 @@ def _bilateral_channel(values: np.ndarray, sigma_spatial: float, sigma_range: fl
 
     ys = np.arange(h, dtype=np.float32) / step + pad
     xs = np.arange(w, dtype=np.float32) / step + pad
-    rs = np.clip(values, 0.0, 1.0) / sigma_range + pad
-
-    iy = np.rint(ys).astype(np.int64)
     ix = np.rint(xs).astype(np.int64)
-    ir = np.rint(rs).astype(np.int64)
-    flat = ((iy[:, None] * gw + ix[None, :]) * gr + ir).ravel()
     size = gh * gw * gr
-    total = np.bincount(flat, weights=values.ravel().astype(np.float64), minlength=size)
-    count = np.bincount(flat, minlength=size).astype(np.float64)
+    total = np.zeros(size)
+    count = np.zeros(size)
+    rows = max(1, CHUNK_PIXELS // w)               # row blocks keep the temporaries small on large images
+    for top in range(0, h, rows):
+        block = values[top:top + rows]
+        ir = np.rint(np.clip(block, 0.0, 1.0) / sigma_range + pad).astype(np.int64)
+        iy = np.rint(ys[top:top + rows]).astype(np.int64)
+        flat = ((iy[:, None] * gw + ix[None, :]) * gr + ir).ravel()
+        total += np.bincount(flat, weights=block.ravel().astype(np.float64), minlength=size)
+        count += np.bincount(flat, minlength=size)
     grid = np.stack([total, count]).reshape(2, gh, gw, gr)
     grid = ndimage.gaussian_filter(grid, sigma=(0, 1.0, 1.0, 1.0), mode="constant", truncate=3.0)
-
-    return _slice(grid, ys, xs, rs)
+    out = np.empty((h, w), np.float32)
+    for top in range(0, h, rows):
+        rs = np.clip(values[top:top + rows], 0.0, 1.0) / sigma_range + pad
+        out[top:top + rows] = _slice(grid, ys[top:top + rows], xs, rs)
+    return out
 
 
 def _slice(grid: np.ndarray, ys: np.ndarray, xs: np.ndarray, rs: np.ndarray) -> np.ndarray:

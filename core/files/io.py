@@ -467,8 +467,12 @@ def write_png(path: PathLike, data: np.ndarray, bits: int = 8) -> None:
         raise ValueError(f"PNG data needs 1, 3 or 4 channels, got {pixels.shape[2]}.")
     dtype, fmt = (np.uint8, "uint8") if bits == 8 else (np.uint16, "uint16")
     maxval = float(np.iinfo(dtype).max)
-    values = np.floor(np.nan_to_num(pixels.astype(np.float64), nan=0.0) * maxval + 0.5)
-    quantised = np.ascontiguousarray(np.clip(values, 0.0, maxval).astype(dtype))
+    values = np.nan_to_num(pixels.astype(np.float32), nan=0.0, copy=False)   # float32, in place: one copy
+    values *= np.float32(maxval)
+    values += np.float32(0.5)
+    np.floor(values, out=values)
+    np.clip(values, 0.0, maxval, out=values)
+    quantised = np.ascontiguousarray(values.astype(dtype))
     spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], fmt)
     if pixels.shape[2] == 4:
         spec.attribute("oiio:UnassociatedAlpha", 1)
