@@ -79,6 +79,28 @@ def _is_linear(path: pathlib.Path, format_name: str, spec) -> bool:
     return space in _LINEAR_SPACES or space.startswith("lin_")
 
 
+@contextlib.contextmanager
+def _opened(path: pathlib.Path, max_megapixels: float, config=None) -> Iterator[tuple]:
+    """The first image of ``path`` opened with the libraries' own messages captured: yields
+    (ImageInput, its ImageSpec checked against ``max_megapixels``, the captured messages) and closes it.
+
+    A missing, empty, unreadable or too large file raises InputError naming it.
+    """
+    _check_input_path(path)
+    oiio.geterror()  # drop any stale global error
+    with quiet.captured() as printed:
+        inp = oiio.ImageInput.open(str(path), config) if config is not None else oiio.ImageInput.open(str(path))
+        if inp is None:
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
+            raise InputError(f"Cannot read the image {path}: {why}.")
+        try:
+            spec = inp.spec()
+            _check_spec(path, spec, max_megapixels)
+            yield inp, spec, printed
+        finally:
+            inp.close()
+
+
 def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, bool, bool]:
     """Read the first subimage, mip level 0, of any file OpenImageIO reads.
 
@@ -89,23 +111,12 @@ def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, boo
     premultiplied). ``linear`` says the colour values are scene-linear.
     """
     path = pathlib.Path(path)
-    _check_input_path(path)
-    oiio.geterror()  # drop any stale global error
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
-    with quiet.captured() as printed:
-        inp = oiio.ImageInput.open(str(path), config)
-        if inp is None:
-            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
-            raise InputError(f"Cannot read the image {path}: {why}.")
-        try:
-            spec = inp.spec()
-            _check_spec(path, spec, max_megapixels)
-            data = upright(_read_first_image(path, inp, spec), spec.get_int_attribute("Orientation", 1))
-            linear = _is_linear(path, inp.format_name(), spec)
-            associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
-        finally:
-            inp.close()
+    with _opened(path, max_megapixels, config) as (inp, spec, _):
+        data = upright(_read_first_image(path, inp, spec), spec.get_int_attribute("Orientation", 1))
+        linear = _is_linear(path, inp.format_name(), spec)
+        associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
     if not np.all(np.isfinite(data)):
         raise InputError(f"The image {path} holds NaN or infinite values.")
     data, has_alpha = _select_channels(data)
@@ -195,20 +206,8 @@ def probe(path: PathLike, max_megapixels: float = float("inf")) -> Tuple[int, in
     Same InputError rules as ``read_image`` for missing, empty, unreadable
     and too large files.
     """
-    path = pathlib.Path(path)
-    _check_input_path(path)
-    oiio.geterror()
-    with quiet.captured() as printed:
-        inp = oiio.ImageInput.open(str(path))
-        if inp is None:
-            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
-            raise InputError(f"Cannot read the image {path}: {why}.")
-        try:
-            spec = inp.spec()
-            _check_spec(path, spec, max_megapixels)
-            return int(spec.width), int(spec.height), int(spec.nchannels)
-        finally:
-            inp.close()
+    with _opened(pathlib.Path(path), max_megapixels) as (_, spec, _):
+        return int(spec.width), int(spec.height), int(spec.nchannels)
 
 
 def read_image(path: PathLike, max_megapixels: float = 50.0,
@@ -275,22 +274,11 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
     unreadable, truncated, empty, or holds NaN or infinite values.
     """
     path = pathlib.Path(path)
-    _check_input_path(path)
-    oiio.geterror()
-    with quiet.captured() as printed:
-        inp = oiio.ImageInput.open(str(path))
-        if inp is None:
-            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
-            raise InputError(f"Cannot read the image {path}: {why}.")
-        try:
-            spec = inp.spec()
-            _check_spec(path, spec, float("inf"))
-            pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
-            error = inp.geterror() if inp.has_error else ""
-            names = list(spec.channelnames)
-            attributes = {a.name: a.value for a in spec.extra_attribs}
-        finally:
-            inp.close()
+    with _opened(path, float("inf")) as (inp, spec, printed):
+        pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
+        error = inp.geterror() if inp.has_error else ""
+        names = list(spec.channelnames)
+        attributes = {a.name: a.value for a in spec.extra_attribs}
     if pixels is None or error:
         why = _reason(error or oiio.geterror() or printed.text, "the pixel data could not be read")
         raise InputError(f"Cannot read the image {path}: {why}.")
