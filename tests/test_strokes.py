@@ -137,17 +137,16 @@ def test_eq4_two_stamps_fold_later_on_top():
     np.testing.assert_allclose(canvas.colour[5, 6], 0.6 * a + 0.4 * C0, atol=1e-5)   # stamp 1, bristle A
     assert canvas.coverage[5, 5] == pytest.approx(1 - 0.4 * 0.5, abs=1e-5)
     # deposit: the contact of every bristle that passed over the pixel (one row)
-    k = int(np.flatnonzero(fp.pixels == 5 * 11 + 5)[0])
-    assert fp.deposit[k] == pytest.approx(0.6 + 0.5, abs=1e-5)
+    assert fp.deposit[5 - fp.top, 5 - fp.left] == pytest.approx(0.6 + 0.5, abs=1e-5)
 
 
 def test_relief_rule_by_hand():
     # a hand-made footprint over old paint H = 0.4, A = 0.5: o = (1 - T) f, f = min(1, deposit / deposit_90);
     # over: H + o h - o f H; accumulate (b = 0.5): H + o h - o f (1 - b) H
     from core.strokes.compositing import Footprint
-    fp = Footprint(np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9], np.int32), np.full(10, 0.1),
-                   np.zeros((10, 3), np.float32), np.array([1, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32),
-                   np.array([1.2, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32))
+    fp = Footprint(0, 0, np.full((2, 5), 0.1, np.float32), np.zeros((2, 5, 3), np.float32),
+                   np.array([1, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32).reshape(2, 5),
+                   np.array([1.2, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32).reshape(2, 5))
     for mode, loss in (("over", 1.0), ("accumulate", 0.5)):
         canvas = Canvas.blank((2, 5), C0)
         canvas.height[...] = 0.4
@@ -403,10 +402,12 @@ def test_height_modes_over_and_accumulate(flat):
     over.apply(fp, "over", 0.5)
     h1 = over.height.astype(np.float64).copy()
     over.apply(fp, "over", 0.5)
-    full = fp.deposit >= np.percentile(fp.deposit, 90)                         # f = 1
+    touched = fp.touched
+    full = touched & (fp.deposit >= np.percentile(fp.deposit[touched], 90))   # f = 1
     assert full.sum() > 50
-    where = np.unravel_index(fp.pixels[full], (40, 80))
-    o = 1 - fp.transmittance[full]
+    rows, columns = np.nonzero(full)
+    where = (rows + fp.top, columns + fp.left)
+    o = 1 - fp.transmittance[full].astype(np.float64)
     h = fp.height[full].astype(np.float64)
     np.testing.assert_allclose(h1[where], o * h, rtol=1e-5)                    # bare canvas: H = o h
     np.testing.assert_allclose(over.height[where], o * h + (1 - o) * h1[where], rtol=1e-5)   # the weighted sum
@@ -421,7 +422,7 @@ def test_height_modes_over_and_accumulate(flat):
     np.testing.assert_allclose(heights[-1], heights[-2], rtol=1e-5)            # ... and converges
     np.testing.assert_allclose(heights[-1], h / (1 - 0.5), rtol=1e-4)         # to h / (1 - b)
     # bounded everywhere: H -> h / (f (1 - b)) <= (1 / (1 - b)) max(h, h90 height / deposit)
-    h90 = np.percentile(fp.deposit, 90)
+    h90 = np.percentile(fp.deposit[touched], 90)
     bound = 2.0 * max(fp.height.max(), h90 * np.max(fp.height / np.maximum(fp.deposit, 1e-9)))
     assert acc.height.max() <= bound + 1e-5
 
@@ -562,7 +563,8 @@ def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
     colour = np.array([[0.2, 0.4, 0.8]], np.float32)
     once = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10))
     thrice = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10), repeat=3)
-    assert once.pixels.tolist() == thrice.pixels.tolist()
-    np.testing.assert_allclose(thrice.transmittance, 0.4 ** 3, rtol=1e-6)
-    np.testing.assert_allclose(thrice.paint, colour * (1 - 0.4 ** 3), rtol=1e-5)
+    assert once.rows_columns()[0].tolist() == thrice.rows_columns()[0].tolist() == [5]
+    hit = thrice.touched
+    np.testing.assert_allclose(thrice.transmittance[hit], 0.4 ** 3, rtol=1e-6)
+    np.testing.assert_allclose(thrice.paint[hit], colour * (1 - 0.4 ** 3), rtol=1e-5)
     np.testing.assert_allclose(thrice.deposit, 3 * once.deposit)  # three coats of paint

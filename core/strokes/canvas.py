@@ -50,21 +50,35 @@ class Canvas:
         the thin paint lies on the old instead of replacing it, so a stroke
         never digs a groove into the paint beneath. Opacity A = o + (1 - o) A.
         """
-        p = footprint.pixels
-        if p.size == 0:
-            return
-        colour = self.colour.reshape(-1, 3)
         keep = footprint.transmittance
-        colour[p] = (colour[p] * keep[:, None] + footprint.paint).astype(np.float32)
-        coverage = self.coverage.reshape(-1)
-        coverage[p] = 1.0 - (1.0 - coverage[p]) * keep
+        if keep.size == 0:
+            return
+        box = (slice(footprint.top, footprint.top + keep.shape[0]), slice(footprint.left, footprint.left + keep.shape[1]))
+        colour = self.colour[box]
+        colour *= keep[..., None]
+        colour += footprint.paint
+        alpha = 1.0 - keep
+        coverage = self.coverage[box]
+        coverage += alpha * (1.0 - coverage)
         deposit = footprint.deposit
-        full = np.float32(np.percentile(deposit, 90))
+        full = percentile_90(deposit[footprint.touched])
         fullness = np.minimum(deposit / full, np.float32(1.0)) if full > 0 else np.zeros_like(deposit)
-        o = ((1.0 - keep) * fullness).astype(np.float32)
+        o = alpha * fullness
         loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
-        height = self.height.reshape(-1)
-        old = height[p]
-        height[p] = np.maximum(old + o * footprint.height - o * fullness * loss * old, 0.0)
-        opacity = self.opacity.reshape(-1)
-        opacity[p] = o + (1.0 - o) * opacity[p]
+        height = self.height[box]
+        height += o * (footprint.height - fullness * loss * height)
+        np.maximum(height, 0.0, out=height)
+        opacity = self.opacity[box]
+        opacity += o * (1.0 - opacity)
+
+
+def percentile_90(values: np.ndarray) -> np.float32:
+    """The 90th percentile of (N,) float32 ``values`` (linear between order statistics, as np.percentile), 0 if empty."""
+    n = values.size
+    if n == 0:
+        return np.float32(0.0)
+    position = 0.9 * (n - 1)
+    below = int(position)
+    above = min(below + 1, n - 1)
+    ordered = np.partition(values, (below, above))
+    return np.float32(ordered[below] + (ordered[above] - ordered[below]) * (position - below))

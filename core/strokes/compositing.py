@@ -21,24 +21,26 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import sparse
 
-MAX_INTENSITY = 1.0 - 1e-6  # keeps log(1 - I) finite for full-contact bristles
+from .folding import MAX_INTENSITY, tip_grid, track_folds
 
 
 @dataclass
 class Footprint:
-    """What one stroke does to the pixels it touches.
+    """What one stroke does to the box of canvas pixels around it.
 
-    pixels:        int32 (U,) flat indices (row * W + column), ascending, unique.
-    transmittance: float64 (U,) prod (1 - a) over all contributions: the share of
-                   the old canvas colour that shows through.
-    paint:         float32 (U, 3) sum_s a_s C_s prod_{t>s} (1 - a_t): the paint laid on top.
-    deposit:       float32 (U,) bristle contact that passed over the pixel, divided by the
-                   brush's rows (a full pass of a uniform brush of contact I deposits I).
-    height:        float32 (U,) the deposit shaped by the stroke's relief (ridges, build-up).
+    top, left:     the box's first row and column on the canvas (px).
+    transmittance: float32 (h, w) in [0, 1], prod (1 - a) over all contributions: the share
+                   of the old canvas colour that shows through (1 where the stroke missed).
+    paint:         float32 (h, w, 3) sum_s a_s C_s prod_{t>s} (1 - a_t): the paint laid on top.
+    deposit:       float32 (h, w) >= 0, bristle contact that passed over the pixel, divided by
+                   the brush's rows (a full pass of a uniform brush of contact I deposits I).
+    height:        float32 (h, w) >= 0, the deposit shaped by the stroke's relief (ridges, build-up).
     """
 
-    pixels: np.ndarray
+    top: int
+    left: int
     transmittance: np.ndarray
     paint: np.ndarray
     deposit: np.ndarray
@@ -47,8 +49,18 @@ class Footprint:
     @classmethod
     def empty(cls) -> "Footprint":
         """A stroke that touches no pixel."""
-        zero = np.zeros(0, np.float32)
-        return cls(np.zeros(0, np.int32), np.zeros(0), np.zeros((0, 3), np.float32), zero, zero)
+        zero = np.zeros((0, 0), np.float32)
+        return cls(0, 0, zero, np.zeros((0, 0, 3), np.float32), zero, zero)
+
+    @property
+    def touched(self) -> np.ndarray:
+        """bool (h, w): the pixels of the box the stroke laid paint or contact on."""
+        return (self.transmittance < 1.0) | (self.deposit > 0.0)
+
+    def rows_columns(self) -> tuple:
+        """(rows, columns) int canvas coordinates of the touched pixels, in raster order."""
+        rows, columns = np.nonzero(self.touched)
+        return rows + self.top, columns + self.left
 
 
 def stamp_positions(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray) -> tuple:
@@ -157,23 +169,15 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
         height = np.add.reduceat(laid * gain, starts)
     else:
         height = deposit
-    pixels = (local[starts] // box_w + y0) * np.int32(w) + (local[starts] % box_w + x0)
-    return Footprint(pixels.astype(np.int32), transmittance, paint, deposit.astype(np.float32),
-                     height.astype(np.float32))
-
-
-def tip_grid(along: np.ndarray, across: np.ndarray) -> tuple:
-    """Row and column of each of B bristles in their tip's grid: (rows (B,) int, columns (B,) int, R, W).
-
-    Bristles sit on a whole-pixel lattice (see core.brush): row r lies r px
-    behind the front (largest ``along``), column c is c px right of the
-    smallest ``across``. Lattice cells without a bristle are empty rows or columns.
-    """
-    along = np.asarray(along, np.float64)
-    across = np.asarray(across, np.float64)
-    rows = np.rint(along.max() - along).astype(np.int64)
-    columns = np.rint(across - across.min()).astype(np.int64)
-    return rows, columns, int(rows.max()) + 1, int(columns.max()) + 1
+    box_h = int(local[-1]) // box_w + 1
+    at = local[starts]
+    box = Footprint(y0, x0, np.ones((box_h, box_w), np.float32), np.zeros((box_h, box_w, 3), np.float32),
+                    np.zeros((box_h, box_w), np.float32), np.zeros((box_h, box_w), np.float32))
+    box.transmittance.ravel()[at] = transmittance
+    box.paint.reshape(-1, 3)[at] = paint
+    box.deposit.ravel()[at] = deposit
+    box.height.ravel()[at] = height
+    return box
 
 
 def path_at(samples: np.ndarray, angles: np.ndarray, arc: np.ndarray) -> tuple:
@@ -200,21 +204,6 @@ def path_at(samples: np.ndarray, angles: np.ndarray, arc: np.ndarray) -> tuple:
     return x, y, direction
 
 
-def fold_rows(scale: np.ndarray, grid: np.ndarray, grid_colour: np.ndarray, passes: float) -> tuple:
-    """Eq. 4 folded over a brush's rows, front row first, for each of K contact patterns.
-
-    scale: (K, R) contact multiplier of each row (0 = the row is absent);
-    grid: (R, W) bristle contact; grid_colour: (R, W, 3). Returns
-    (paint (K, W, 3), log transmittance (K, W), contact laid (K, W)), all float32.
-    """
-    strength = scale[:, None, :] * grid.T[None, :, :]                                   # (K, W, R)
-    np.minimum(strength, np.float32(MAX_INTENSITY), out=strength)
-    log_keep = np.log1p(-strength) * np.float32(passes)
-    after = np.exp(np.cumsum(log_keep[..., ::-1], axis=2)[..., ::-1] - log_keep)         # prod over later rows
-    paint = np.einsum("kwr,rwc->kwc", -np.expm1(log_keep) * after, grid_colour)          # no BLAS here
-    return paint, log_keep.sum(axis=2), strength.sum(axis=2)
-
-
 def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray,
                     intensity: np.ndarray, colours: np.ndarray, shape: tuple, passes: float = 1.0,
                     contact: np.ndarray = None, stamp_relief: np.ndarray = None,
@@ -231,10 +220,11 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     Eq. 4. The track is sampled every px of arc, each sample folding the rows
     whose stamps exist there (all of them inside the stroke, fewer at its
     ends), then splatted like a bristle (see the module docstring). This lays
-    R times fewer contributions for a brush R rows long. The few track
-    samples that meet at a pixel (neighbouring columns and arc positions of
-    one stroke, whose colours are close) lay their paint together, mixed by
-    the optical depth each lays, so no sort is needed; the order of Eq. 4 is
+    R times fewer contributions for a brush R rows long (the folds come from
+    ``core.strokes.folding.track_folds``). The few track samples that meet
+    at a pixel (neighbouring columns and arc positions of one stroke, whose
+    colours are close) lay their paint together, mixed by the optical depth
+    each lays: one sparse product splats all of them into the stroke's box; the order of Eq. 4 is
     kept between strokes and, through the fold, between a column's rows. On
     a curved path a track follows the path's normal at its own arc length,
     which differs from stamping by the brush's turn over its own length; the
@@ -248,34 +238,27 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     grid_colour = np.zeros((n_rows, n_columns, 3), np.float32)
     grid_colour[row, column] = colours
     offsets = (float(np.min(across)) + np.arange(n_columns)).astype(np.float32)
-    front = float(np.max(along))
     ridge = np.ones(n_columns, np.float32)
     if bristle_relief is not None:
         ridge[column] = bristle_relief
 
     n_track = n_samples + n_rows - 1
     k = np.arange(n_track)
-    arc = k - (n_rows - 1) + front                                   # arc length of each track sample (px)
+    arc = k - (n_rows - 1) + float(np.max(along))                    # arc length of each track sample (px)
     first_row = np.maximum(0, n_rows - 1 - k)
     last_row = np.minimum(n_rows - 1, n_samples + n_rows - 2 - k)
-    r = np.arange(n_rows)
-    present = (r[None, :] >= first_row[:, None]) & (r[None, :] <= last_row[:, None])      # (K, R)
     stamp_index = np.arange(n_samples, dtype=np.float64)
-    touch = np.ones(n_track, np.float32) if contact is None else np.interp(arc, stamp_index, contact).astype(np.float32)
-    # Inside the stroke every row is present at full contact: one fold per column serves all those samples.
-    interior = present.all(axis=1) & (touch == 1.0)
-    distinct = np.flatnonzero(~interior)
-    folds = [fold_rows(touch[distinct, None] * present[distinct], grid, grid_colour, passes)]
-    if interior.any():
-        folds.append(fold_rows(np.ones((1, n_rows), np.float32), grid, grid_colour, passes))
-    paint = np.empty((n_track, n_columns, 3), np.float32)
-    log_total = np.empty((n_track, n_columns), np.float32)
-    laid = np.empty((n_track, n_columns), np.float32)
-    for where, (p_fold, t_fold, l_fold) in zip((distinct, np.flatnonzero(interior)), folds, strict=False):
-        paint[where], log_total[where], laid[where] = p_fold, t_fold, l_fold
-    laid *= np.float32(1.0 / float(rows))
+    touch = np.ones(n_track) if contact is None else np.interp(arc, stamp_index, contact)
+    colour, log_total, laid = track_folds(first_row, last_row, touch, grid, grid_colour, passes)
     build = np.ones(n_track, np.float32) if stamp_relief is None else \
         np.interp(arc, stamp_index, stamp_relief).astype(np.float32)
+
+    # What each track sample lays, per unit of splat weight: optical depth, depth-weighted colour, contact, height.
+    values = np.empty((n_track, n_columns, 6), np.float32)
+    np.negative(log_total, out=values[..., 0])
+    np.multiply(colour, values[..., 0:1], out=values[..., 1:4])
+    np.multiply(laid, np.float32(1.0 / float(rows)), out=values[..., 4])
+    np.multiply(values[..., 4], build[:, None] * ridge[None, :], out=values[..., 5])
 
     px, py, direction = path_at(np.asarray(samples, np.float64), angles, arc)
     c, s = np.cos(direction)[:, None], np.sin(direction)[:, None]
@@ -285,38 +268,50 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
         span = np.hypot(np.gradient(x, axis=0), np.gradient(y, axis=0)).astype(np.float32)
     else:
         span = np.ones_like(x)
-    live = log_total < 0
-    keys = np.flatnonzero(live.ravel())
-    if keys.size == 0:
-        return Footprint.empty()
-    ix, iy, weight = bilinear_splat(x.ravel()[keys], y.ravel()[keys], shape)
-    weight *= span.ravel()[keys][:, None]
-    inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h) & (weight > 0)
-    contribution = np.flatnonzero(inside.ravel())
-    if contribution.size == 0:
-        return Footprint.empty()
-    ix = ix.ravel()[contribution]
-    iy = iy.ravel()[contribution]
-    x0, y0 = int(ix.min()), int(iy.min())
-    box_w, box_h = int(ix.max()) - x0 + 1, int(iy.max()) - y0 + 1
-    local = (iy - y0) * box_w + (ix - x0)
-    point = keys[contribution >> 2]                                                         # (track sample, column)
-    weight = weight.ravel()[contribution]
+    return splat_box(x.ravel(), y.ravel(), span.ravel(), values.reshape(-1, 6), shape)
 
-    # The tracks meeting at a pixel lay their paint together, mixed by the optical depth each lays.
-    depth = -weight * log_total.ravel()[point]
-    colour_point = paint.reshape(-1, 3)[point] / (-np.expm1(log_total.ravel()[point]))[:, None]
-    bins = box_w * box_h
-    total_depth = np.bincount(local, depth, bins)
-    laid_c = weight * laid.ravel()[point]
-    deposit = np.bincount(local, laid_c, bins)
-    used = np.flatnonzero((total_depth > 0) | (deposit > 0))
-    total_depth = total_depth[used]
-    mixed = np.stack([np.bincount(local, depth * colour_point[:, ch], bins)[used] for ch in range(3)], axis=1)
-    transmittance = np.exp(-total_depth)
-    colour_paint = mixed * ((1.0 - transmittance) / np.maximum(total_depth, 1e-30))[:, None]
-    gain = ridge[point % n_columns] * build[point // n_columns]
-    height = np.bincount(local, laid_c * gain, bins)[used]
-    pixels = (used // box_w + y0) * w + (used % box_w + x0)
-    return Footprint(pixels.astype(np.int32), transmittance, colour_paint.astype(np.float32),
-                     deposit[used].astype(np.float32), height.astype(np.float32))
+
+def splat_box(x: np.ndarray, y: np.ndarray, weight: np.ndarray, values: np.ndarray, shape: tuple) -> Footprint:
+    """The Footprint of N track samples at (x, y) (N,) px, each laying ``values`` (N, 6) times ``weight`` (N,).
+
+    values: optical depth d, depth-weighted colour d C (3), contact, height.
+    Each sample is splatted bilinearly onto the four pixels around it (one
+    sparse product over the box for all six values); a pixel's transmittance
+    is exp(-sum d) and its paint (1 - exp(-sum d)) sum d C / sum d.
+    """
+    h, w = shape
+    fx = np.floor(x)
+    fy = np.floor(y)
+    ix = fx.astype(np.int32)
+    iy = fy.astype(np.int32)
+    x0, y0 = int(ix.min()), int(iy.min())
+    box_w, box_h = int(ix.max()) - x0 + 2, int(iy.max()) - y0 + 2
+    top, left = max(y0, 0), max(x0, 0)
+    bottom, right = min(y0 + box_h, h), min(x0 + box_w, w)
+    if top >= bottom or left >= right:
+        return Footprint.empty()
+    ax = x - fx
+    ay = y - fy
+    bx = 1.0 - ax
+    by = (1.0 - ay) * weight
+    ay *= weight
+    weights = np.empty((len(x), 4), np.float32)                                              # bilinear, per corner
+    np.multiply(bx, by, out=weights[:, 0])
+    np.multiply(ax, by, out=weights[:, 1])
+    np.multiply(bx, ay, out=weights[:, 2])
+    np.multiply(ax, ay, out=weights[:, 3])
+    base = (iy - np.int32(y0)) * np.int32(box_w) + (ix - np.int32(x0))
+    corner = np.empty((len(x), 4), np.int32)
+    for i, offset in enumerate((0, 1, box_w, box_w + 1)):
+        np.add(base, np.int32(offset), out=corner[:, i])
+    splat = sparse.csc_matrix((weights.ravel(), corner.ravel(), np.arange(0, weights.size + 1, 4, dtype=np.int32)),
+                              shape=(box_h * box_w, len(x)))
+    laid = (splat @ values).reshape(box_h, box_w, 6)[top - y0:bottom - y0, left - x0:right - x0]
+    depth = laid[..., 0]
+    transmittance = np.exp(-depth)
+    share = np.divide(1.0 - transmittance, depth, out=np.zeros_like(depth), where=depth > 0)
+    paint = np.empty(depth.shape + (3,), np.float32)
+    for ch in range(3):
+        np.multiply(laid[..., 1 + ch], share, out=paint[..., ch])
+    return Footprint(top, left, transmittance, paint, np.ascontiguousarray(laid[..., 4]),
+                     np.ascontiguousarray(laid[..., 5]))
