@@ -30,13 +30,23 @@ def luminance(rgb: np.ndarray) -> np.ndarray:
 
 D65_WHITE = np.array([0.95047, 1.0, 1.08883])
 SRGB_TO_XYZ = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]])
+XYZ_TO_SRGB = np.linalg.inv(SRGB_TO_XYZ)
+
+
+def _transform(values: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """(..., 3) ``values`` times the 3 x 3 ``matrix`` (each row of values as a column vector), float64.
+
+    An einsum rather than ``@``: painting calls this once per stroke, and a
+    BLAS call there would wake BLAS threads for a 3 x 3 product.
+    """
+    return np.einsum("...j,ij->...i", values, matrix)
 
 
 def srgb_to_lab(srgb: np.ndarray) -> np.ndarray:
     """(..., 3) sRGB [0, 1] -> float64 CIELAB (L* in [0, 100], a*, b*), D65 white."""
     c = np.clip(np.asarray(srgb, np.float64), 0.0, 1.0)
     linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-    xyz = linear @ SRGB_TO_XYZ.T / D65_WHITE
+    xyz = _transform(linear, SRGB_TO_XYZ) / D65_WHITE
     f = np.where(xyz > 216 / 24389, np.cbrt(xyz), (24389 / 27 * xyz + 16) / 116)
     return np.stack([116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]), 200 * (f[..., 1] - f[..., 2])], -1)
 
@@ -47,5 +57,5 @@ def lab_to_srgb(lab: np.ndarray) -> np.ndarray:
     fy = (lab[..., 0] + 16) / 116
     f = np.stack([fy + lab[..., 1] / 500, fy, fy - lab[..., 2] / 200], axis=-1)
     xyz = np.where(f > 6 / 29, f ** 3, (116 * f - 16) * 27 / 24389) * D65_WHITE
-    linear = np.clip(xyz @ np.linalg.inv(SRGB_TO_XYZ).T, 0.0, 1.0)
+    linear = np.clip(_transform(xyz, XYZ_TO_SRGB), 0.0, 1.0)
     return np.clip(np.where(linear <= 0.0031308, linear * 12.92, 1.055 * linear ** (1 / 2.4) - 0.055), 0.0, 1.0)

@@ -101,7 +101,7 @@ def catmull_rom(points: np.ndarray, spacing: float = 1.0) -> tuple:
     longest = float(np.sqrt(np.max(step[:, 0] ** 2 + step[:, 1] ** 2)))
     n = max(1, int(math.ceil(longest / spacing)))
     windows = np.stack([padded[0:k - 1], padded[1:k], padded[2:k + 1], padded[3:k + 2]], axis=1)  # (K-1, 4, 2)
-    samples = np.matmul(catmull_rom_basis(n)[None], windows).reshape(-1, 2)
+    samples = np.einsum("nj,kjd->knd", catmull_rom_basis(n), windows).reshape(-1, 2)   # no BLAS
     samples = np.concatenate((samples, points[-1:]))
     control_index = np.arange(k, dtype=np.int64) * n
     return samples, control_index

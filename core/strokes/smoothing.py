@@ -38,19 +38,23 @@ class SmoothedImage:
         Positions outside the image take the nearest border value.
         """
         f = self.factor
-        h, w = self.pixels.shape[:2]
-        u = np.clip((np.asarray(x, np.float32) - np.float32((f - 1) / 2.0)) / np.float32(f), 0, w - 1)
-        v = np.clip((np.asarray(y, np.float32) - np.float32((f - 1) / 2.0)) / np.float32(f), 0, h - 1)
+        h, w, channels = self.pixels.shape
+        shift, f = np.float32((f - 1) / 2.0), np.float32(f)
+        u = np.clip((np.asarray(x, np.float32) - shift) / f, 0, w - 1)
+        v = np.clip((np.asarray(y, np.float32) - shift) / f, 0, h - 1)
         u0 = np.minimum(u.astype(np.intp), max(w - 2, 0))
         v0 = np.minimum(v.astype(np.intp), max(h - 2, 0))
         fu = (u - u0)[..., None]
         fv = (v - v0)[..., None]
-        u1 = np.minimum(u0 + 1, w - 1)
-        v1 = np.minimum(v0 + 1, h - 1)
-        p = self.pixels
-        top = p[v0, u0] + fu * (p[v0, u1] - p[v0, u0])
-        bottom = p[v1, u0] + fu * (p[v1, u1] - p[v1, u0])
-        return (top + fv * (bottom - top)).astype(np.float32)
+        flat = self.pixels.reshape(-1, channels)
+        i00 = v0 * w + u0
+        right = 1 if w > 1 else 0
+        down = w if h > 1 else 0
+        p00, p01 = flat[i00], flat[i00 + right]
+        p10, p11 = flat[i00 + down], flat[i00 + down + right]
+        top = p00 + fu * (p01 - p00)
+        bottom = p10 + fu * (p11 - p10)
+        return top + fv * (bottom - top)
 
     def at(self, x: float, y: float) -> np.ndarray:
         """(C,) float32 value at one position (px)."""
