@@ -9,7 +9,7 @@ from .params import Params
 from .version import __version__
 
 __all__ = [
-    "__version__", "Params", "Analysis", "analyze", "Painting", "paint", "paint_file", "check_maps",
+    "__version__", "Params", "Analysis", "analyze", "Painting", "paint", "paint_file", "check_maps", "ensure_normal_map",
     "PaintReliefError", "InputError", "OutputError", "ParameterError", "Cancelled",
 ]
 
@@ -27,6 +27,9 @@ def __getattr__(name):
     if name == "check_maps":
         from .files.maps import check_maps
         return check_maps
+    if name == "ensure_normal_map":
+        from .files.export import ensure_normal_map
+        return ensure_normal_map
     if name == "paint_file":
         from .api import paint_file
         return paint_file

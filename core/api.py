@@ -34,7 +34,7 @@ def check_input(input_path, params: Params, mask_path: Optional[str] = None,
 
 
 def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-               mask_path: Optional[str] = None, max_memory: Optional[int] = None) -> dict:
+               mask_path: Optional[str] = None, max_memory: Optional[int] = None, normal_map: bool = False) -> dict:
     """Read ``input_path``, paint it and write every output into ``output_dir``; return the report.
 
     Checks everything it can from headers first (``check_input``), then
@@ -43,6 +43,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     a PaintReliefError whose message is one sentence naming the file and the
     problem, and leaves ``output_dir`` as it was (a folder this call created
     is removed again). Running out of memory is reported the same way.
+    With ``normal_map`` normal.exr is written too (``export.write_painting``).
     """
     from .files.export import write_painting
     from .methods.registry import paint
@@ -54,7 +55,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
             mask = io.read_gray(mask_path, params.max_megapixels) if mask_path else None
             painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
             with folder.staged() as staging:
-                report = write_painting(staging, painting, str(input_path))
+                report = write_painting(staging, painting, str(input_path), normal_map)
     except MemoryError:
         raise out_of_memory(input_path) from None
     report["output_dir"] = str(Path(output_dir).resolve())

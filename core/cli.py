@@ -104,7 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     paint_p = sub.add_parser(
         "paint", help="paint a photograph stroke by stroke and write its relief maps",
         description="Write color.exr (scene-linear RGB), height.exr, opacity.exr, orientation.exr, "
-                    "normal.exr, painting.png, lit_paper.png, strokes.json and report.json.")
+                    "painting.png, lit_paper.png, strokes.json and report.json (and normal.exr with --normal-map).")
     _add_analysis_options(paint_p)
     paint_p.add_argument("--layers", type=_int, default=DEFAULTS.layers, metavar="N",
                          help="layers of strokes, each one pass over all grids (default: %(default)s)")
@@ -136,6 +136,9 @@ def build_parser() -> argparse.ArgumentParser:
                               "every curve sample from the anchor, for ablation) (default: %(default)s)")
     paint_p.add_argument("--no-details", dest="detail_pass", action="store_false",
                          help="skip the detail pass that dots small highlights with the smallest brush")
+    paint_p.add_argument("--normal-map", action="store_true",
+                         help="also write normal.exr, the height map's tangent-space normals (for renderers "
+                              "that shade a flat plane)")
     paint_p.set_defaults(run=run_paint)
     _add_light_parser(sub)
     _add_experiments_parser(sub)
@@ -184,7 +187,7 @@ def run_paint(args: argparse.Namespace, progress) -> None:
     from .api import paint_file
 
     paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask,
-               max_memory=max_memory(args))
+               max_memory=max_memory(args), normal_map=args.normal_map)
 
 
 def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -> None:

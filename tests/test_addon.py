@@ -185,6 +185,16 @@ def test_building_again_updates_the_same_canvas(results):
 
 
 @pytest.mark.blender
+def test_a_normal_map_canvas_makes_its_normal_map_from_the_height_map(results):
+    step = _step(results, "canvas_normal_map")
+    assert not step["had_normals"]                       # the painter writes normal.exr only when asked
+    assert step["result"] == ["FINISHED"], step["error"]
+    assert step["normal_shape"][:2] == [48, 64] and step["normal_z_min"] > 0.5   # encoded n.z = 0.5 + 0.5 z > 0.5
+    assert ("ShaderNodeNormalMap", "Normal", "ShaderNodeBump", "Normal") in {tuple(link) for link in step["links"]}
+    assert step["back_to_mesh"] == ["FINISHED"]
+
+
+@pytest.mark.blender
 def test_lights_are_updated_not_duplicated(results):
     step = _step(results, "lights")
     assert step["results"] == [["FINISHED"]] * 3

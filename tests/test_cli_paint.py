@@ -9,7 +9,7 @@ from core.cli import main
 from core.colour import srgb_to_linear
 from core.files import io
 
-OUTPUTS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "normal.exr", "painting.png", "lit_paper.png",
+OUTPUTS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "lit_paper.png",
            "strokes.json", "report.json"}
 REPORT_KEYS = {"strokes", "strokes_per_layer", "grids", "psnr_db", "seconds", "params", "seed", "width", "height",
                "version", "height_mode"}

@@ -306,12 +306,12 @@ def test_failed_run_after_creating_the_folder_removes_it(inputs, tmp_path, monke
 
 def test_a_folder_where_a_file_should_be(inputs, folder, capfd):
     out, _ = folder
-    (out / "normal.exr").unlink()
-    (out / "normal.exr").mkdir()
-    (out / "normal.exr" / "inside.txt").write_text("keep me")
+    (out / "opacity.exr").unlink()
+    (out / "opacity.exr").mkdir()
+    (out / "opacity.exr" / "inside.txt").write_text("keep me")
     before = snapshot(out)
     assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "2"]) == 2
-    assert_one_sentence(capfd.readouterr().err, "normal.exr", "folder")
+    assert_one_sentence(capfd.readouterr().err, "opacity.exr", "folder")
     assert snapshot(out) == before
 
 

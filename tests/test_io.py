@@ -381,7 +381,7 @@ def test_failed_write_keeps_previous_file(tmp_path, monkeypatch, kind):
             def open(self, name, spec):
                 return self.out.open(name, spec)
 
-            def write_image(self, pixels):
+            def write_scanlines(self, ybegin, yend, z, pixels):
                 return False
 
             def geterror(self):

@@ -141,13 +141,16 @@ def load_maps(folder, names=values.CANVAS_MAPS):
     """
     folder = os.path.normpath(bpy.path.abspath(folder))
     paths = {name: os.path.join(folder, name) for name in names}
-    for path in paths.values():
-        if not os.path.isfile(path):
+    for name, path in paths.items():
+        if not os.path.isfile(path) and name != values.NORMAL_MAP:
             raise CanvasError("Painted map {} does not exist; paint first or choose a painted folder.".format(path))
     from ... import core
 
     try:  # Blender only ever receives maps OpenImageIO read in full: finite, expected channels, equal sizes
         core.check_maps(folder, values.CANVAS_MAPS)
+        if values.NORMAL_MAP in names:  # made from height.exr when the painter was not asked for it
+            core.ensure_normal_map(folder)
+            core.check_maps(folder, (values.HEIGHT_MAP, values.NORMAL_MAP))
     except core.PaintReliefError as error:
         raise CanvasError(str(error)) from None
     before = set(bpy.data.images)

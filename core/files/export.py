@@ -5,15 +5,18 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Callable, Sequence
 
 import numpy as np
 
 from ..colour import srgb_to_linear
+from ..errors import InputError
 from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
 from ..results import Painting
 from ..version import __version__
-from . import io
+from . import io, quiet
 
 
 def map_attributes(painting: Painting) -> dict:
@@ -30,60 +33,140 @@ def map_attributes(painting: Painting) -> dict:
     }
 
 
-PAINTING_FILES = ("color.exr", "height.exr", "opacity.exr", "orientation.exr", "normal.exr", "painting.png",
-                  "lit_paper.png", "strokes.json", "report.json")
-"""Every file ``write_painting`` writes, report.json last."""
+PAINTING_FILES = ("color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "lit_paper.png",
+                  "strokes.json", "report.json")
+"""Every file ``write_painting`` writes, report.json last (and normal.exr when asked)."""
+
+NORMAL_FILE = "normal.exr"
+
+WRITERS = 2
+"""Files written at once: the EXR and PNG encoders and the NumPy work making their rows run side by side."""
+
+
+def file_digest(path: Path) -> dict:
+    """{"bytes": size, "sha256": hex digest} of the file at ``path``."""
+    data = Path(path).read_bytes()
+    return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
 
 
 def file_digests(folder: Path, names) -> dict:
     """{name: {"bytes": size, "sha256": hex digest}} of the files ``names`` in ``folder``."""
-    digests = {}
-    for name in names:
-        data = (Path(folder) / name).read_bytes()
-        digests[name] = {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
-    return digests
+    return dict(zip(names, run_all([lambda n=name: file_digest(Path(folder) / n) for name in names]), strict=True))
 
 
-def write_painting(folder: Path, painting: Painting, source: str) -> dict:
+def run_all(tasks: Sequence[Callable[[], object]]) -> list:
+    """Run ``tasks`` on WRITERS threads; their results in order. The first failure (in task order) is raised
+    once all have finished, so no file is still being written when the caller cleans up."""
+    with ThreadPoolExecutor(WRITERS) as pool:
+        futures = [pool.submit(task) for task in tasks]
+    return [future.result() for future in futures]
+
+
+def rows_with_halo(shape: tuple, compute: Callable[[int, int], np.ndarray], halo: int) -> io.RowBlocks:
+    """RowBlocks of an image whose rows depend on the ``halo`` rows around them.
+
+    compute(a, b) makes rows a .. b - 1 of the (H, W, C) ``shape`` image from
+    the same rows of its inputs (treating row a and row b - 1 as the border
+    where they are not); each block is computed with ``halo`` extra rows on
+    both sides and cut back, so it equals the image computed whole.
+    """
+    def rows(y0: int, y1: int) -> np.ndarray:
+        a, b = max(0, y0 - halo), min(shape[0], y1 + halo)
+        return compute(a, b)[y0 - a:y1 - a]
+    return io.RowBlocks(tuple(shape), rows)
+
+
+HEIGHT_DIGEST_ATTR = "paint_relief:height_sha256"
+"""normal.exr's record of the height.exr it was made from (its SHA-256)."""
+
+
+def write_normal_map(path: Path, height: np.ndarray, attributes: dict, height_digest: str) -> None:
+    """normal.exr at ``path``: tangent-space normals of the (H, W) ``height`` as height.exr stores it (in half
+    floats; see ``write_painting``), recording ``height_digest``, the SHA-256 of that height.exr."""
+    normal_attributes = dict(attributes, **{"paint_relief:normal_relief": float(DEFAULT_RELIEF),
+                                            "paint_relief:normal_encoding": "n*0.5+0.5, OpenGL (Y up)",
+                                            HEIGHT_DIGEST_ATTR: height_digest})
+    def normals(a: int, b: int) -> np.ndarray:
+        stored = height[a:b].astype(np.float16).astype(np.float32)
+        return encode_normals(normal_map(stored, DEFAULT_RELIEF))
+    rows = rows_with_halo(height.shape + (3,), normals, 1)
+    io.write_exr(path, rows, half=True, attributes=normal_attributes)
+
+
+def ensure_normal_map(folder: Path) -> Path:
+    """The normal.exr of painted ``folder``, made from its height.exr unless it is already there for that height map.
+
+    A normal map records the SHA-256 of the height.exr it was made from, so a
+    folder painted again (its height.exr changed) gets a new one. Written
+    atomically; InputError when height.exr cannot be read, OutputError when
+    normal.exr cannot be written.
+    """
+    folder = Path(folder)
+    path = folder / NORMAL_FILE
+    digest = file_digest(folder / "height.exr")["sha256"] if (folder / "height.exr").is_file() else None
+    if digest is not None and path.is_file():
+        try:
+            if io.read_attributes(path).get(HEIGHT_DIGEST_ATTR) == digest:
+                return path
+        except InputError:
+            pass                                    # unreadable: made again below
+    height, _, attributes = io.read_exr(folder / "height.exr")
+    kept = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
+    write_normal_map(path, height[:, :, 0], kept, digest)
+    return path
+
+
+def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
     The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
     half keeps 1/2048 of the value, far finer than paint height or opacity vary).
+    Images are made and written a block of rows at a time, WRITERS files at once.
 
     color.exr    RGB, scene-linear Rec.709 (the sRGB painting converted)
     height.exr   Y, paint height (1 = one full bristle's contact)
     opacity.exr  Y, stroke opacity in [0, 1]
     orientation.exr  Y, stroke direction in radians [0, pi) (the paper's lighting needs it)
-    normal.exr   RGB, tangent-space normals of the height field (lighting.normal_map at
-                 relief DEFAULT_RELIEF px per height unit; OpenGL convention X right, Y up,
-                 Z out), stored ENCODED as n * 0.5 + 0.5 in [0, 1]: Blender's Normal Map
-                 node expects encoded colour data, so load it as Non-Color data
     painting.png the painting, 8-bit sRGB
     lit_paper.png the painting lit by the paper's Eq. 6-7 at strength PAPER_STRENGTH, 8-bit sRGB
     strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
     report.json  figures of the run, and the size and SHA-256 of every other file above
                  ("files"), so a folder can be checked to hold one complete painting
+    normal.exr   only with ``normal_map``: RGB, tangent-space normals of the height field
+                 (lighting.normal_map at relief DEFAULT_RELIEF px per height unit; OpenGL
+                 convention X right, Y up, Z out), stored ENCODED as n * 0.5 + 0.5 in [0, 1]:
+                 Blender's Normal Map node expects encoded colour data, so load it as Non-Color data
     """
     folder = Path(folder)
     t0 = time.perf_counter()
     attributes = map_attributes(painting)
-    io.write_exr(folder / "color.exr", srgb_to_linear(painting.colour), half=True, attributes=attributes)
-    io.write_exr(folder / "height.exr", painting.height, channels=("Y",), half=True, attributes=attributes)
-    io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), half=True, attributes=attributes)
-    io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), half=True, attributes=attributes)
-    normal_attributes = dict(attributes, **{"paint_relief:normal_relief": float(DEFAULT_RELIEF),
-                                            "paint_relief:normal_encoding": "n*0.5+0.5, OpenGL (Y up)"})
-    io.write_exr(folder / "normal.exr", encode_normals(normal_map(painting.height, DEFAULT_RELIEF)), half=True,
-                 attributes=normal_attributes)
-    io.write_png(folder / "painting.png", painting.colour)
-    io.write_png(folder / "lit_paper.png",
-                 paper_lighting(painting.colour, painting.height, painting.orientation, PAPER_STRENGTH))
-    io.write_json(folder / "strokes.json", {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
-                  indent=None)
+    colour, height = painting.colour, painting.height
+    shape = colour.shape
+    linear = io.RowBlocks(shape, lambda y0, y1: srgb_to_linear(colour[y0:y1]))
+    lit = rows_with_halo(shape, lambda a, b: paper_lighting(colour[a:b], height[a:b], painting.orientation[a:b],
+                                                            PAPER_STRENGTH), 2)
+    tasks = [
+        lambda: io.write_png(folder / "lit_paper.png", lit),
+        lambda: io.write_png(folder / "painting.png", colour),
+        lambda: io.write_exr(folder / "color.exr", linear, half=True, attributes=attributes),
+        lambda: io.write_exr(folder / "height.exr", height, channels=("Y",), half=True, attributes=attributes),
+        lambda: io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), half=True,
+                             attributes=attributes),
+        lambda: io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), half=True,
+                             attributes=attributes),
+        lambda: io.write_json(folder / "strokes.json",
+                              {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
+                              indent=None),
+    ]
+    with quiet.captured():          # one capture for all the writers (library messages go to no terminal)
+        run_all(tasks)
+    files = file_digests(folder, PAINTING_FILES[:-1])
+    if normal_map:
+        write_normal_map(folder / NORMAL_FILE, height, attributes, files["height.exr"]["sha256"])
+        files[NORMAL_FILE] = file_digest(folder / NORMAL_FILE)
     report = dict(painting.statistics)
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
     report.update({"input": str(source), "params": painting.params.to_dict(),
-                   "height_range": [float(np.min(painting.height)), float(np.max(painting.height))],
-                   "files": file_digests(folder, PAINTING_FILES[:-1])})
+                   "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
     io.write_json(folder / "report.json", report)
     return report

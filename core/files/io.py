@@ -14,7 +14,8 @@ import json
 import os
 import pathlib
 import secrets
-from typing import Dict, Iterator, List, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass
+from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import OpenImageIO as oiio
@@ -289,6 +290,12 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
     return data, names, attributes
 
 
+def read_attributes(path: PathLike) -> Dict[str, object]:
+    """The header attributes of an image (name -> Python value), without reading its pixels; InputError as read_exr."""
+    with _opened(pathlib.Path(path), float("inf")) as (_, spec, _printed):
+        return {a.name: a.value for a in spec.extra_attribs}
+
+
 def _restore_channel_order(data: np.ndarray, names: List[str], order) -> Tuple[np.ndarray, List[str]]:
     """Reorder (H, W, C) ``data`` and ``names`` to the comma-separated ``order`` when it names the same channels."""
     if not isinstance(order, str):
@@ -390,15 +397,56 @@ def _attribute_value(value):
     raise ValueError(f"Header attribute values must be str, int or float, got {type(value).__name__}.")
 
 
-def _write_with_oiio(path: pathlib.Path, spec, pixels: np.ndarray) -> None:
-    """Write ``pixels`` with ``spec`` to ``path`` through a temporary file; OutputError on any failure."""
+BLOCK_PIXELS = 1 << 20
+"""About this many pixels are made and written at a time (see ``RowBlocks``)."""
+
+
+@dataclass(frozen=True)
+class RowBlocks:
+    """An (H, W, C) float32 image made a block of rows at a time, so a large image is written in little memory.
+
+    shape: (H, W, C); rows(y0, y1) returns float32 (y1 - y0, W, C), the image's rows y0 .. y1 - 1.
+    """
+
+    shape: Tuple[int, int, int]
+    rows: Callable[[int, int], np.ndarray]
+
+    @classmethod
+    def of(cls, data: Union[np.ndarray, "RowBlocks"]) -> "RowBlocks":
+        """``data`` itself when it is RowBlocks, else the (H, W) or (H, W, C) array cut into blocks."""
+        if isinstance(data, RowBlocks):
+            return data
+        pixels = _as_hwc(data)
+        return cls(pixels.shape, lambda y0, y1: pixels[y0:y1])
+
+    def blocks(self) -> Iterator[Tuple[int, int, np.ndarray]]:
+        """(y0, y1, rows) for consecutive blocks of about BLOCK_PIXELS pixels (whole multiples of 16 rows)."""
+        height, width, channels = self.shape
+        step = max(16, BLOCK_PIXELS // width // 16 * 16)
+        for y0 in range(0, height, step):
+            y1 = min(height, y0 + step)
+            block = self.rows(y0, y1)
+            if block.shape != (y1 - y0, width, channels):
+                raise ValueError(f"Rows {y0}..{y1} came back with shape {block.shape}.")
+            yield y0, y1, block
+
+
+def _write_with_oiio(path: pathlib.Path, spec, image: RowBlocks,
+                     convert: Callable[[np.ndarray], np.ndarray] = None) -> None:
+    """Write ``image`` with ``spec`` to ``path`` through a temporary file, a block of rows at a time
+    (each passed through ``convert`` first when given); OutputError on any failure."""
     with atomic_path(path) as temp, quiet.captured() as printed:
         oiio.geterror()
         out = oiio.ImageOutput.create(str(temp))
         if out is None:
             raise OutputError(f"Cannot write {path}: {_reason(oiio.geterror(), 'no writer for this file type')}.")
         try:
-            ok = out.open(str(temp), spec) and out.write_image(pixels)
+            ok = out.open(str(temp), spec)
+            for y0, y1, block in image.blocks() if ok else ():
+                pixels = np.ascontiguousarray(convert(block) if convert is not None else block)
+                ok = out.write_scanlines(y0, y1, 0, pixels)
+                if not ok:
+                    break
             error = "" if ok else _oiio_error(out)
         finally:
             closed = out.close()
@@ -407,9 +455,9 @@ def _write_with_oiio(path: pathlib.Path, spec, pixels: np.ndarray) -> None:
             raise OutputError(f"Cannot write {path}: {why}.")
 
 
-def write_exr(path: PathLike, data: np.ndarray, channels: Optional[Sequence[str]] = None,
+def write_exr(path: PathLike, data: Union[np.ndarray, RowBlocks], channels: Optional[Sequence[str]] = None,
               half: bool = False, attributes: Optional[Dict[str, object]] = None) -> None:
-    """Write float32 (H, W) or (H, W, C) ``data`` as a zip-compressed OpenEXR file.
+    """Write float32 (H, W) or (H, W, C) ``data`` (or RowBlocks) as a zip-compressed OpenEXR file.
 
     ``channels`` names the C channels (default Y / R,G,B / R,G,B,A for 1 / 3 / 4
     channels); ``half=True`` stores 16-bit half floats, otherwise 32-bit
@@ -421,11 +469,12 @@ def write_exr(path: PathLike, data: np.ndarray, channels: Optional[Sequence[str]
     is written atomically; any failure raises OutputError naming it.
     """
     path = pathlib.Path(path)
-    pixels = _as_hwc(data)
-    names = tuple(channels) if channels is not None else _default_channels(pixels.shape[2])
-    if len(names) != pixels.shape[2]:
-        raise ValueError(f"{len(names)} channel names given for {pixels.shape[2]} channels.")
-    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], "half" if half else "float")
+    image = RowBlocks.of(data)
+    height, width, count = image.shape
+    names = tuple(channels) if channels is not None else _default_channels(count)
+    if len(names) != count:
+        raise ValueError(f"{len(names)} channel names given for {count} channels.")
+    spec = oiio.ImageSpec(width, height, count, "half" if half else "float")
     spec.channelnames = names
     spec.alpha_channel = names.index("A") if "A" in names else -1
     spec.attribute("compression", "zip")
@@ -433,15 +482,15 @@ def write_exr(path: PathLike, data: np.ndarray, channels: Optional[Sequence[str]
     spec.attribute(_CHANNEL_ORDER_ATTR, ",".join(names))
     for name, value in (attributes or {}).items():
         spec.attribute(str(name), _attribute_value(value))
-    _write_with_oiio(path, spec, pixels)
+    _write_with_oiio(path, spec, image)
 
 
 PNG_COMPRESSION = 3
 """zlib level of the PNGs: level 3 is several times faster than the highest and the files about 10 % larger."""
 
 
-def write_png(path: PathLike, data: np.ndarray, bits: int = 8) -> None:
-    """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` in [0, 1] as an 8- or 16-bit PNG.
+def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8) -> None:
+    """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` (or RowBlocks) in [0, 1] as an 8- or 16-bit PNG.
 
     Values are quantised as ``floor(v * maxval + 0.5)`` clipped to
     [0, maxval] (maxval 255 or 65535; NaN becomes 0). Four channels are RGB
@@ -450,23 +499,27 @@ def write_png(path: PathLike, data: np.ndarray, bits: int = 8) -> None:
     """
     if bits not in (8, 16):
         raise ValueError(f"PNG bits must be 8 or 16, got {bits}.")
-    pixels = _as_hwc(data)
-    if pixels.shape[2] not in (1, 3, 4):
-        raise ValueError(f"PNG data needs 1, 3 or 4 channels, got {pixels.shape[2]}.")
+    image = RowBlocks.of(data)
+    height, width, count = image.shape
+    if count not in (1, 3, 4):
+        raise ValueError(f"PNG data needs 1, 3 or 4 channels, got {count}.")
     dtype, fmt = (np.uint8, "uint8") if bits == 8 else (np.uint16, "uint16")
     maxval = float(np.iinfo(dtype).max)
-    values = np.nan_to_num(pixels.astype(np.float32), nan=0.0, copy=False)   # float32, in place: one copy
-    values *= np.float32(maxval)
-    values += np.float32(0.5)
-    np.floor(values, out=values)
-    np.clip(values, 0.0, maxval, out=values)
-    quantised = np.ascontiguousarray(values.astype(dtype))
-    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], fmt)
-    if pixels.shape[2] == 4:
+
+    def quantise(block: np.ndarray) -> np.ndarray:
+        values = np.nan_to_num(block.astype(np.float32), nan=0.0, copy=False)   # a float32 copy, then in place
+        values *= np.float32(maxval)
+        values += np.float32(0.5)
+        np.floor(values, out=values)
+        np.clip(values, 0.0, maxval, out=values)
+        return values.astype(dtype)
+
+    spec = oiio.ImageSpec(width, height, count, fmt)
+    if count == 4:
         spec.attribute("oiio:UnassociatedAlpha", 1)
     spec.attribute("DateTime", "")
     spec.attribute("png:compressionLevel", PNG_COMPRESSION)
-    _write_with_oiio(pathlib.Path(path), spec, quantised)
+    _write_with_oiio(pathlib.Path(path), spec, image, quantise)
 
 
 def _json_default(value):

@@ -45,12 +45,17 @@ class Captured:
 
 @contextlib.contextmanager
 def captured() -> Iterator[Captured]:
-    """Point descriptor 2 at a temporary file for the block when capturing is on; yield what was printed."""
+    """Point descriptor 2 at a temporary file for the block when capturing is on; yield what was printed.
+
+    Descriptor 2 belongs to the whole process: while one thread captures,
+    a block in another thread captures nothing itself (what it prints lands
+    in the first thread's capture) instead of waiting for it.
+    """
     result = Captured()
-    if not _enabled:
+    if not _enabled or not _lock.acquire(blocking=False):
         yield result
         return
-    with _lock:
+    try:
         try:
             sys.stderr.flush()
         except (AttributeError, ValueError, OSError):
@@ -65,3 +70,5 @@ def captured() -> Iterator[Captured]:
                 os.close(saved)
                 sink.seek(0)
                 result.text = sink.read(65536).decode("utf-8", errors="replace")
+    finally:
+        _lock.release()

@@ -223,6 +223,24 @@ def main(work, render):
                 "modifiers_after": [m.type for m in obj.modifiers]}
 
     @check
+    def canvas_normal_map():
+        had_normals = os.path.exists(os.path.join(out, "normal.exr"))
+        settings.displacement_method = "NORMAL_MAP"
+        result, error = run_op(ops.build_canvas)
+        from paint_relief.addon.scene import canvas
+
+        material = canvas.find_role(scene, "canvas").active_material
+        links = sorted({(l.from_node.bl_idname, l.from_socket.identifier, l.to_node.bl_idname, l.to_socket.identifier)
+                        for l in material.node_tree.links})
+        normals = read_exr(os.path.join(out, "normal.exr")) if os.path.exists(os.path.join(out, "normal.exr")) else None
+        settings.displacement_method = "MESH"
+        back, back_error = run_op(ops.build_canvas)
+        return {"result": result, "error": error, "had_normals": had_normals, "links": links,
+                "normal_shape": None if normals is None else list(normals.shape),
+                "normal_z_min": None if normals is None else float(normals[..., 2].min()),
+                "back_to_mesh": back, "back_error": back_error}
+
+    @check
     def lights():
         results = [run_op(ops.add_lights)[0]]
         first = counts(bpy)

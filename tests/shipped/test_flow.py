@@ -43,7 +43,7 @@ def test_libraries_come_from_blender_or_the_zip(flow):
 def test_paint(flow):
     found = _step(flow, "paint")
     assert found["result"] == ["FINISHED"], found["error"]
-    assert {"color.exr", "height.exr", "opacity.exr", "normal.exr", "painting.png"} <= set(found["files"])
+    assert {"color.exr", "height.exr", "opacity.exr", "painting.png"} <= set(found["files"])
 
 
 def test_canvas_lights_camera(flow):
