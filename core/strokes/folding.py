@@ -108,37 +108,49 @@ def track_folds(first_row: np.ndarray, last_row: np.ndarray, touch: np.ndarray, 
     grid (R, W), grid_colour (R, W, 3). Returns (colour (K, W, 3), log
     transmittance (K, W), contact laid (K, W)) float32, where colour is the
     mean colour of the paint laid (the folded paint over its alpha; 0 where
-    nothing is laid). Runs that reach the brush's back or start at its front
-    come from ``fold_tables`` at contact levels LEVELS_PER_CONTACT per unit
-    apart between min(touch) and 1, interpolated linearly (exact at full
-    contact; colour and transmittance are interpolated apart, so a colour
-    between two levels is a mix of theirs and never brighter or more
-    saturated); the rare runs that do neither (a stroke shorter than its
+    nothing is laid). The samples inside the stroke (every row at full
+    contact) share one exact fold. The others are folded exactly while they
+    are few; else (long brushes, whose ends span many samples) they come
+    from ``fold_tables`` at contact levels LEVELS_PER_CONTACT per unit apart
+    between min(touch) and 1, interpolated linearly (colour and
+    transmittance apart, so a colour between two levels is a mix of theirs
+    and never brighter or more saturated), and the rare runs that neither
+    reach the brush's back nor start at its front (a stroke shorter than its
     brush) are folded exactly.
     """
     n_rows = grid.shape[0]
     touch = np.asarray(touch, np.float64)
-    inner = (first_row > 0) & (last_row < n_rows - 1)
-    entry = np.where(first_row > 0, first_row, np.where(last_row < n_rows - 1, n_rows + last_row, 0))
-    lowest = float(touch[~inner].min()) if (~inner).any() else 1.0
+    rows = np.arange(n_rows)
+    whole = (first_row == 0) & (last_row == n_rows - 1)
+    ends = np.flatnonzero(~whole | (touch < 1.0))
+    lowest = float(touch[ends].min()) if ends.size else 1.0
     n_levels = 1 + math.ceil((1.0 - lowest) * LEVELS_PER_CONTACT)
-    levels = np.linspace(lowest, 1.0, n_levels) if n_levels > 1 else np.ones(1)
-    paint_t, log_t, laid_t = fold_tables(levels, grid, grid_colour, passes)
-    colour_t = mean_colour(paint_t, log_t)
-    if n_levels > 1:
-        position = (touch - lowest) / (1.0 - lowest) * (n_levels - 1)
-        below = np.clip(np.floor(position).astype(np.int64), 0, n_levels - 2)
-        frac = np.clip(position - below, 0.0, 1.0).astype(np.float32)
-        colour, log_total, laid = (between_levels(t, below, entry, frac) for t in (colour_t, log_t, laid_t))
+    if ends.size <= 2 * n_levels:                                   # few: fold each exactly
+        paint, log_total, laid = fold_rows(np.ones((1, n_rows), np.float32), grid, grid_colour, passes)
+        colour = np.repeat(mean_colour(paint, log_total), len(touch), axis=0)
+        log_total, laid = np.repeat(log_total, len(touch), axis=0), np.repeat(laid, len(touch), axis=0)
+        exact = ends
     else:
-        colour, log_total, laid = colour_t[0, entry], log_t[0, entry], laid_t[0, entry]
-    if inner.any():
-        where = np.flatnonzero(inner)
-        rows = np.arange(n_rows)
-        present = (rows[None, :] >= first_row[where, None]) & (rows[None, :] <= last_row[where, None])
-        paint, log_total[where], laid[where] = fold_rows((touch[where, None] * present).astype(np.float32),
+        inner = (first_row > 0) & (last_row < n_rows - 1)
+        entry = np.where(first_row > 0, first_row, np.where(last_row < n_rows - 1, n_rows + last_row, 0))
+        lowest = float(touch[~inner].min()) if (~inner).any() else 1.0
+        n_levels = 1 + math.ceil((1.0 - lowest) * LEVELS_PER_CONTACT)
+        levels = np.linspace(lowest, 1.0, n_levels) if n_levels > 1 else np.ones(1)
+        paint_t, log_t, laid_t = fold_tables(levels, grid, grid_colour, passes)
+        colour_t = mean_colour(paint_t, log_t)
+        if n_levels > 1:
+            position = (touch - lowest) / (1.0 - lowest) * (n_levels - 1)
+            below = np.clip(np.floor(position).astype(np.int64), 0, n_levels - 2)
+            frac = np.clip(position - below, 0.0, 1.0).astype(np.float32)
+            colour, log_total, laid = (between_levels(t, below, entry, frac) for t in (colour_t, log_t, laid_t))
+        else:
+            colour, log_total, laid = colour_t[0, entry], log_t[0, entry], laid_t[0, entry]
+        exact = np.flatnonzero(inner)
+    if exact.size:
+        present = (rows[None, :] >= first_row[exact, None]) & (rows[None, :] <= last_row[exact, None])
+        paint, log_total[exact], laid[exact] = fold_rows((touch[exact, None] * present).astype(np.float32),
                                                          grid, grid_colour, passes)
-        colour[where] = mean_colour(paint, log_total[where])
+        colour[exact] = mean_colour(paint, log_total[exact])
     return colour, log_total, laid
 
 
