@@ -25,10 +25,11 @@ PER_PIXEL = {
     "analysis: reference (H, W, 3), intensity, importance, orientation": 24,
     "analysis working arrays (bilateral grid, Sobel, structure tensor float64, summed-area table)": 56,
     "canvas: colour (H, W, 3), coverage, height, opacity": 24,
-    "writing: linear colour, normals (float64), PNG quantisation (float64), paper lighting": 64,
+    "colour sources: the reference smoothed at each brush's scale (up to three levels at full size)": 36,
 }
 BYTES_PER_PIXEL = sum(PER_PIXEL.values())
-"""Sum of PER_PIXEL: 204 bytes; measured peak resident memory is about 170 bytes per pixel."""
+"""Sum of PER_PIXEL: 172 bytes; the measured peak resident memory is about 125 bytes per pixel at 16 megapixels.
+Writing makes its images a block of rows at a time (``io.RowBlocks``): no full-size arrays of its own."""
 MASK_BYTES_PER_PIXEL = 16
 """A user mask: the decoded file and its float32 copy, resized to the image."""
 BASE_BYTES = 200 * 2**20

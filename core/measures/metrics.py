@@ -15,8 +15,20 @@ from ..colour import luminance
 
 
 def psnr(a: np.ndarray, b: np.ndarray) -> float:
-    """Peak signal-to-noise ratio (dB) of two [0, 1] images; inf when they are equal."""
-    mse = float(np.mean((np.asarray(a, np.float64) - np.asarray(b, np.float64)) ** 2))
+    """Peak signal-to-noise ratio (dB) of two [0, 1] images of one shape; inf when they are equal.
+
+    The squared differences are summed in float64 a block of about 2^20
+    values at a time, so a large image needs no full-size temporaries.
+    """
+    a, b = np.atleast_1d(np.asarray(a)), np.atleast_1d(np.asarray(b))
+    if a.shape != b.shape:
+        raise ValueError(f"PSNR of images of different shapes {a.shape} and {b.shape}.")
+    step = max(1, (1 << 20) // max(1, a[0].size))
+    total = 0.0
+    for start in range(0, len(a), step):
+        d = (a[start:start + step].astype(np.float64) - b[start:start + step]).ravel()
+        total += float(np.einsum("i,i->", d, d))
+    mse = total / a.size
     return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
 
 
