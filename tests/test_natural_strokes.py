@@ -336,11 +336,11 @@ def test_fold_tables_interpolate_within_a_level_of_the_exact_fold(rows):
     present = (np.arange(rows)[None, :] >= first[:, None]) & (np.arange(rows)[None, :] <= last[:, None])
     paint, exact_log, exact_laid = fold_rows((touch[:, None] * present).astype(np.float32), grid, grid_colour, 1.5)
     alpha = -np.expm1(exact_log)
-    exact_colour = paint / np.maximum(alpha, 1e-30)[..., None]
+    exact_colour = paint / np.maximum(alpha, 1e-30)[None]                      # (3, K, W) planes
     np.testing.assert_allclose(laid, exact_laid, rtol=1e-4, atol=1e-6)          # linear in the contact: exact
     step = 1.0 / LEVELS_PER_CONTACT
     assert np.abs(np.expm1(log_total) - np.expm1(exact_log)).max() < 2 * step ** 2 * 4
     seen = alpha > 1e-3
-    assert np.abs(colour - exact_colour)[seen].max() < 1.0 / 255
-    full = touch == 1.0                                                 # full contact: the exact fold
-    np.testing.assert_allclose(colour[full][seen[full]], exact_colour[full][seen[full]], atol=2e-5)
+    assert np.abs(colour - exact_colour)[:, seen].max() < 1.0 / 255
+    full = (touch == 1.0)[:, None] & seen                               # full contact: the exact fold
+    np.testing.assert_allclose(colour[:, full], exact_colour[:, full], atol=2e-5)

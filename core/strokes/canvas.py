@@ -55,30 +55,49 @@ class Canvas:
             return
         box = (slice(footprint.top, footprint.top + keep.shape[0]), slice(footprint.left, footprint.left + keep.shape[1]))
         colour = self.colour[box]
-        colour *= keep[..., None]
+        for ch in range(3):                      # a plane at a time: a broadcast over 3 channels is slow
+            colour[..., ch] *= keep
         colour += footprint.paint
         alpha = 1.0 - keep
-        coverage = self.coverage[box]
-        coverage += alpha * (1.0 - coverage)
+        scratch = np.subtract(1.0, self.coverage[box])
+        scratch *= alpha
+        self.coverage[box] += scratch
         deposit = footprint.deposit
-        full = percentile_90(deposit[footprint.touched])
-        fullness = np.minimum(deposit / full, np.float32(1.0)) if full > 0 else np.zeros_like(deposit)
-        o = alpha * fullness
+        full = percentile_90(deposit)
+        if full <= 0:
+            return
+        fullness = np.multiply(deposit, np.float32(1.0 / full))
+        np.minimum(fullness, np.float32(1.0), out=fullness)
+        o = alpha
+        o *= fullness
         loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
         height = self.height[box]
-        height += o * (footprint.height - fullness * loss * height)
+        fullness *= loss
+        fullness *= height
+        np.subtract(footprint.height, fullness, out=fullness)
+        fullness *= o
+        height += fullness
         np.maximum(height, 0.0, out=height)
         opacity = self.opacity[box]
-        opacity += o * (1.0 - opacity)
+        np.subtract(1.0, opacity, out=scratch)
+        scratch *= o
+        opacity += scratch
 
 
 def percentile_90(values: np.ndarray) -> np.float32:
-    """The 90th percentile of (N,) float32 ``values`` (linear between order statistics, as np.percentile), 0 if empty."""
-    n = values.size
+    """The 90th percentile of the positive entries of ``values`` (any shape, >= 0), linear between order
+    statistics as np.percentile; 0 when none is positive.
+
+    The zeros are the smallest entries, so the percentile is an order
+    statistic of the whole array: no copy of the positive entries is needed.
+    """
+    n = int(np.count_nonzero(values))
     if n == 0:
         return np.float32(0.0)
     position = 0.9 * (n - 1)
     below = int(position)
-    above = min(below + 1, n - 1)
-    ordered = np.partition(values, (below, above))
-    return np.float32(ordered[below] + (ordered[above] - ordered[below]) * (position - below))
+    at = values.size - n + below
+    ordered = np.partition(values.ravel(), at)
+    low = ordered[at]
+    high = ordered[at + 1:].min() if below + 1 < n else low    # the next order statistic
+    return np.float32(low + (high - low) * (position - below))

@@ -54,8 +54,8 @@ class Footprint:
 
     @property
     def touched(self) -> np.ndarray:
-        """bool (h, w): the pixels of the box the stroke laid paint or contact on."""
-        return (self.transmittance < 1.0) | (self.deposit > 0.0)
+        """bool (h, w): the pixels of the box the stroke laid contact (and so paint) on."""
+        return self.deposit > 0.0
 
     def rows_columns(self) -> tuple:
         """(rows, columns) int canvas coordinates of the touched pixels, in raster order."""
@@ -256,7 +256,8 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     # What each track sample lays, per unit of splat weight: optical depth, depth-weighted colour, contact, height.
     values = np.empty((n_track, n_columns, 6), np.float32)
     np.negative(log_total, out=values[..., 0])
-    np.multiply(colour, values[..., 0:1], out=values[..., 1:4])
+    for ch in range(3):
+        np.multiply(colour[ch], values[..., 0], out=values[..., 1 + ch])
     np.multiply(laid, np.float32(1.0 / float(rows)), out=values[..., 4])
     np.multiply(values[..., 4], build[:, None] * ridge[None, :], out=values[..., 5])
 

@@ -45,14 +45,14 @@ def fold_rows(scale: np.ndarray, grid: np.ndarray, grid_colour: np.ndarray, pass
 
     scale: (K, R) contact multiplier of each row (0 = the row is absent);
     grid: (R, W) bristle contact; grid_colour: (R, W, 3). Returns
-    (paint (K, W, 3), log transmittance (K, W), contact laid (K, W)), all float32.
+    (paint (3, K, W) one plane per channel, log transmittance (K, W), contact laid (K, W)), all float32.
     """
     strength = scale[:, :, None] * grid[None, :, :]                                    # (K, R, W)
     np.minimum(strength, np.float32(MAX_INTENSITY), out=strength)
     log_keep = np.log1p(-strength) * np.float32(passes)
     later = running_sum(log_keep, reverse=True) - log_keep                             # log prod over later rows
     weight = -np.expm1(log_keep) * np.exp(later)
-    paint = np.stack([np.einsum("krw,rw->kw", weight, grid_colour[..., ch]) for ch in range(3)], axis=-1)
+    paint = np.stack([np.einsum("krw,rw->kw", weight, grid_colour[..., ch]) for ch in range(3)])
     return paint, log_keep.sum(axis=1), strength.sum(axis=1)
 
 
@@ -76,9 +76,9 @@ def fold_tables(levels: np.ndarray, grid: np.ndarray, grid_colour: np.ndarray, p
     grid_colour: (R, W, 3). Entry j < R folds rows j .. R - 1 (the brush
     setting down: its back rows have reached the point, its front rows not
     yet), entry R + j folds rows 0 .. j (the brush lifting off past the
-    point); entry 0 is the whole brush. Returns (paint (L, 2R, W, 3),
-    log transmittance (L, 2R, W), contact laid (L, 2R, W)), float32, equal to
-    ``fold_rows`` of those patterns up to rounding.
+    point); entry 0 is the whole brush. Returns (paint (3, L, 2R, W) one
+    plane per channel, log transmittance (L, 2R, W), contact laid (L, 2R, W)),
+    float32, equal to ``fold_rows`` of those patterns up to rounding.
     """
     n_rows = grid.shape[0]
     strength = np.asarray(levels, np.float32)[:, None, None] * grid[None, :, :]       # (L, R, W)
@@ -86,15 +86,16 @@ def fold_tables(levels: np.ndarray, grid: np.ndarray, grid_colour: np.ndarray, p
     log_keep = np.log1p(-strength) * np.float32(passes)
     alpha = -np.expm1(log_keep)
     from_back = running_sum(log_keep, reverse=True)
-    layer = (alpha * np.exp(from_back - log_keep))[..., None] * grid_colour[None]     # a_r C_r prod_{t>r} (1 - a_t)
-
-    paint = np.empty((len(strength), 2 * n_rows) + grid_colour.shape[1:], np.float32)
-    paint[:, :n_rows] = running_sum(layer, reverse=True)
-    folded = np.zeros((len(strength),) + grid_colour.shape[1:], np.float32)
+    weight = alpha * np.exp(from_back - log_keep)                                     # a_r prod_{t>r} (1 - a_t)
+    planes = np.ascontiguousarray(np.moveaxis(grid_colour, -1, 0))                     # (3, R, W)
+    paint = np.empty((3, len(strength), 2 * n_rows, grid.shape[1]), np.float32)
+    for ch in range(3):
+        paint[ch, :, :n_rows] = running_sum(weight * planes[ch], reverse=True)
+    folded = np.zeros((3, len(strength), grid.shape[1]), np.float32)
     for r in range(n_rows):                                                           # rows 0 .. r, front first
-        folded *= 1.0 - alpha[:, r, :, None]
-        folded += alpha[:, r, :, None] * grid_colour[r]
-        paint[:, n_rows + r] = folded
+        folded *= 1.0 - alpha[None, :, r]
+        folded += alpha[None, :, r] * planes[:, None, r]
+        paint[:, :, n_rows + r] = folded
     log_total = np.concatenate([from_back, running_sum(log_keep)], axis=1)
     laid = np.concatenate([running_sum(strength, reverse=True), running_sum(strength)], axis=1)
     return paint, log_total, laid
@@ -105,8 +106,8 @@ def track_folds(first_row: np.ndarray, last_row: np.ndarray, touch: np.ndarray, 
     """Eq. 4 folded at K track samples, each passed over by rows first_row .. last_row at contact ``touch``.
 
     first_row, last_row: (K,) int in [0, R - 1]; touch: (K,) in (0, 1];
-    grid (R, W), grid_colour (R, W, 3). Returns (colour (K, W, 3), log
-    transmittance (K, W), contact laid (K, W)) float32, where colour is the
+    grid (R, W), grid_colour (R, W, 3). Returns (colour (3, K, W) one plane
+    per channel, log transmittance (K, W), contact laid (K, W)) float32, where colour is the
     mean colour of the paint laid (the folded paint over its alpha; 0 where
     nothing is laid). The samples inside the stroke (every row at full
     contact) share one exact fold. The others are folded exactly while they
@@ -121,49 +122,48 @@ def track_folds(first_row: np.ndarray, last_row: np.ndarray, touch: np.ndarray, 
     n_rows = grid.shape[0]
     touch = np.asarray(touch, np.float64)
     rows = np.arange(n_rows)
+    paint, log_whole, laid_whole = fold_rows(np.ones((1, n_rows), np.float32), grid, grid_colour, passes)
+    colour = np.repeat(mean_colour(paint, log_whole), len(touch), axis=1)       # every row at full contact
+    log_total, laid = np.repeat(log_whole, len(touch), axis=0), np.repeat(laid_whole, len(touch), axis=0)
     whole = (first_row == 0) & (last_row == n_rows - 1)
     ends = np.flatnonzero(~whole | (touch < 1.0))
     lowest = float(touch[ends].min()) if ends.size else 1.0
     n_levels = 1 + math.ceil((1.0 - lowest) * LEVELS_PER_CONTACT)
-    if ends.size <= 2 * n_levels:                                   # few: fold each exactly
-        paint, log_total, laid = fold_rows(np.ones((1, n_rows), np.float32), grid, grid_colour, passes)
-        colour = np.repeat(mean_colour(paint, log_total), len(touch), axis=0)
-        log_total, laid = np.repeat(log_total, len(touch), axis=0), np.repeat(laid, len(touch), axis=0)
-        exact = ends
-    else:
-        inner = (first_row > 0) & (last_row < n_rows - 1)
-        entry = np.where(first_row > 0, first_row, np.where(last_row < n_rows - 1, n_rows + last_row, 0))
-        lowest = float(touch[~inner].min()) if (~inner).any() else 1.0
+    inner = (first_row > 0) & (last_row < n_rows - 1)
+    exact = ends if ends.size <= 2 * n_levels else np.flatnonzero(inner)          # few: fold each exactly
+    tabled = np.setdiff1d(ends, exact, assume_unique=True)
+    if tabled.size:
+        first, last, contact = first_row[tabled], last_row[tabled], touch[tabled]
+        entry = np.where(first > 0, first, np.where(last < n_rows - 1, n_rows + last, 0))
+        lowest = float(contact.min())
         n_levels = 1 + math.ceil((1.0 - lowest) * LEVELS_PER_CONTACT)
         levels = np.linspace(lowest, 1.0, n_levels) if n_levels > 1 else np.ones(1)
         paint_t, log_t, laid_t = fold_tables(levels, grid, grid_colour, passes)
-        colour_t = mean_colour(paint_t, log_t)
-        if n_levels > 1:
-            position = (touch - lowest) / (1.0 - lowest) * (n_levels - 1)
-            below = np.clip(np.floor(position).astype(np.int64), 0, n_levels - 2)
-            frac = np.clip(position - below, 0.0, 1.0).astype(np.float32)
-            colour, log_total, laid = (between_levels(t, below, entry, frac) for t in (colour_t, log_t, laid_t))
-        else:
-            colour, log_total, laid = colour_t[0, entry], log_t[0, entry], laid_t[0, entry]
-        exact = np.flatnonzero(inner)
+        position = (contact - lowest) / max(1.0 - lowest, 1e-12) * (n_levels - 1)
+        below = np.clip(np.floor(position).astype(np.int64), 0, max(n_levels - 2, 0))
+        above = np.minimum(below + 1, n_levels - 1)
+        frac = np.clip(position - below, 0.0, 1.0).astype(np.float32)[:, None]
+        log_below, log_above = log_t[below, entry], log_t[above, entry]
+        colour[:, tabled] = lerp(mean_colour(paint_t[:, below, entry], log_below),
+                                 mean_colour(paint_t[:, above, entry], log_above), frac)
+        log_total[tabled] = lerp(log_below, log_above, frac)
+        laid[tabled] = lerp(laid_t[below, entry], laid_t[above, entry], frac)
     if exact.size:
         present = (rows[None, :] >= first_row[exact, None]) & (rows[None, :] <= last_row[exact, None])
         paint, log_total[exact], laid[exact] = fold_rows((touch[exact, None] * present).astype(np.float32),
                                                          grid, grid_colour, passes)
-        colour[exact] = mean_colour(paint, log_total[exact])
+        colour[:, exact] = mean_colour(paint, log_total[exact])
     return colour, log_total, laid
 
 
 def mean_colour(paint: np.ndarray, log_total: np.ndarray) -> np.ndarray:
-    """(..., 3) float32 colour of folded ``paint`` (..., 3) per unit of its alpha 1 - exp(``log_total``) (...); 0 where
-    the alpha is 0."""
+    """(3, ...) float32 colour planes of folded ``paint`` (3, ...) per unit of its alpha 1 - exp(``log_total``) (...);
+    0 where the alpha is 0."""
     alpha = -np.expm1(log_total)
     scale = np.divide(1.0, alpha, out=np.zeros_like(alpha), where=alpha > 0)
-    return paint * scale[..., None]
+    return paint * scale[None]
 
 
-def between_levels(table: np.ndarray, below: np.ndarray, entry: np.ndarray, frac: np.ndarray) -> np.ndarray:
-    """(K, ...) rows ``entry`` (K,) of an (L, E, ...) table, linearly between levels ``below`` and below + 1 (K,)
-    at fractions ``frac`` (K,) float32 in [0, 1] (exactly the upper level at 1)."""
-    f = frac.reshape(frac.shape + (1,) * (table.ndim - 2))
-    return table[below, entry] * (1.0 - f) + table[below + 1, entry] * f
+def lerp(low: np.ndarray, high: np.ndarray, frac: np.ndarray) -> np.ndarray:
+    """low + (high - low) frac, written as low (1 - frac) + high frac so that frac = 1 gives ``high`` exactly."""
+    return low * (1.0 - frac) + high * frac
