@@ -1,7 +1,7 @@
 """Memory budgets decided before any work: what a run will need against what the machine has.
 
 ``estimate_bytes`` counts the full-image arrays a run holds at its peak, per
-pixel, plus a fixed base for the libraries; ``available_bytes`` reads what
+pixel, plus a fixed base for the libraries and the free heap kept for reuse; ``available_bytes`` reads what
 the machine can give (``MemAvailable`` of /proc/meminfo, a cgroup limit,
 RLIMIT_AS); ``check`` refuses with one sentence when the estimate is above
 the limit. All of it reads only the image's header, so a refusal takes well
@@ -17,6 +17,7 @@ import re
 from typing import Optional
 
 from ..errors import InputError, ParameterError
+from ..heap import TRIM_THRESHOLD
 
 # Bytes per pixel of the arrays alive at a run's peak (float32 unless said).
 PER_PIXEL = {
@@ -34,6 +35,8 @@ MASK_BYTES_PER_PIXEL = 16
 """A user mask: the decoded file and its float32 copy, resized to the image."""
 BASE_BYTES = 200 * 2**20
 """Python, NumPy, SciPy and OpenImageIO themselves, and the stroke list."""
+HEAP_BYTES = TRIM_THRESHOLD
+"""Freed memory the C heap keeps for reuse while painting (``core.heap``), at most this."""
 
 BOMB_PIXELS_PER_BYTE = 500.0
 """An image stored in fewer than 1 byte per this many pixels is a decompression bomb (above BOMB_MIN_PIXELS)."""
@@ -50,7 +53,7 @@ def estimate_bytes(width: int, height: int, layers: int = 4, mask: bool = False)
     """
     pixels = int(width) * int(height)
     per_pixel = BYTES_PER_PIXEL + (MASK_BYTES_PER_PIXEL if mask else 0)
-    return BASE_BYTES + pixels * per_pixel + max(0, int(layers) - 16) * 2**20
+    return BASE_BYTES + HEAP_BYTES + pixels * per_pixel + max(0, int(layers) - 16) * 2**20
 
 
 def _meminfo_available() -> Optional[int]:
