@@ -36,8 +36,18 @@ def _wrap_axial(theta: np.ndarray) -> np.ndarray:
 
 
 def _half_angle(c: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Doubled-angle vector components (c, s) -> axial angle ½·atan2(s, c), float32 in [0, π)."""
-    return _wrap_axial(0.5 * np.arctan2(s, c))
+    """Doubled-angle vector components (c, s) -> axial angle ½·atan2(s, c), float32 in [0, π).
+
+    For float32 components the values of ``_wrap_axial`` without its float64
+    copy: the half angle lies in [-π/2, π/2], so only the negative ones move
+    up by π (added in float64, as there).
+    """
+    t = 0.5 * np.arctan2(s, c)
+    if t.dtype != np.float32:
+        return _wrap_axial(t)
+    np.add(t, math.pi, out=t, where=t < 0, dtype=np.float64, casting="unsafe")
+    t[(t >= _PI32) | ~np.isfinite(t)] = 0.0
+    return t
 
 
 def gradient_normal(intensity: np.ndarray, sigma: float) -> Tuple[np.ndarray, np.ndarray]:
