@@ -54,7 +54,7 @@ class SmoothedImage:
         p10, p11 = flat[i00 + down], flat[i00 + down + right]
         top = p00 + fu * (p01 - p00)
         bottom = p10 + fu * (p11 - p10)
-        return top + fv * (bottom - top)
+        return (top + fv * (bottom - top)).astype(np.float32)
 
     def at(self, x: float, y: float) -> np.ndarray:
         """(C,) float32 value at one position (px)."""
