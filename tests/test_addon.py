@@ -191,6 +191,8 @@ def test_a_normal_map_canvas_makes_its_normal_map_from_the_height_map(results):
     assert step["result"] == ["FINISHED"], step["error"]
     assert step["normal_shape"][:2] == [48, 64] and step["normal_z_min"] > 0.5   # encoded n.z = 0.5 + 0.5 z > 0.5
     assert ("ShaderNodeNormalMap", "Normal", "ShaderNodeBump", "Normal") in {tuple(link) for link in step["links"]}
+    assert step["reload"] == ["FINISHED"], step["reload_error"]
+    assert step["reloaded_normals_match"]                 # made again for the repainted height map
     assert step["back_to_mesh"] == ["FINISHED"]
 
 

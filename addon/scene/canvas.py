@@ -599,6 +599,13 @@ def reload_maps(obj):
     material = obj.active_material
     images = {node.image for node in (material.node_tree.nodes if material and material.node_tree else ())
               if node.bl_idname == "ShaderNodeTexImage" and node.get(OWN_NODE_KEY) and node.image is not None}
+    if any(os.path.basename(image.filepath) == values.NORMAL_MAP for image in images):
+        from ... import core
+
+        try:  # a repainted folder's normal map is made again from its new height map
+            core.ensure_normal_map(os.path.normpath(bpy.path.abspath(folder)))
+        except core.PaintReliefError as error:
+            raise CanvasError(str(error)) from None
     for image in images:
         path = bpy.path.abspath(image.filepath)
         if not os.path.isfile(path):

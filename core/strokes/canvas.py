@@ -53,7 +53,8 @@ class Canvas:
         keep = footprint.transmittance
         if keep.size == 0:
             return
-        box = (slice(footprint.top, footprint.top + keep.shape[0]), slice(footprint.left, footprint.left + keep.shape[1]))
+        top, left = footprint.top, footprint.left
+        box = (slice(top, top + keep.shape[0]), slice(left, left + keep.shape[1]))
         colour = self.colour[box]
         for ch in range(3):                      # a plane at a time: a broadcast over 3 channels is slow
             colour[..., ch] *= keep
@@ -68,8 +69,7 @@ class Canvas:
             return
         fullness = np.multiply(deposit, np.float32(1.0 / full))
         np.minimum(fullness, np.float32(1.0), out=fullness)
-        o = alpha
-        o *= fullness
+        o = np.multiply(alpha, fullness, out=alpha)                  # the stroke's opacity (alpha is done)
         loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
         height = self.height[box]
         fullness *= loss

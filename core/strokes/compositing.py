@@ -57,11 +57,6 @@ class Footprint:
         """bool (h, w): the pixels of the box the stroke laid contact (and so paint) on."""
         return self.deposit > 0.0
 
-    def rows_columns(self) -> tuple:
-        """(rows, columns) int canvas coordinates of the touched pixels, in raster order."""
-        rows, columns = np.nonzero(self.touched)
-        return rows + self.top, columns + self.left
-
 
 def stamp_positions(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray) -> tuple:
     """Positions (x, y), each (S, B) float32 px, of B bristles stamped at S path samples.
@@ -224,8 +219,9 @@ def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, 
     ``core.strokes.folding.track_folds``). The few track samples that meet
     at a pixel (neighbouring columns and arc positions of one stroke, whose
     colours are close) lay their paint together, mixed by the optical depth
-    each lays: one sparse product splats all of them into the stroke's box; the order of Eq. 4 is
-    kept between strokes and, through the fold, between a column's rows. On
+    each lays (``splat_box``: one sparse product for the whole stroke); the
+    order of Eq. 4 is kept between strokes and, through the fold, between a
+    column's rows. On
     a curved path a track follows the path's normal at its own arc length,
     which differs from stamping by the brush's turn over its own length; the
     contact and relief of a track sample are the path's at its arc length.

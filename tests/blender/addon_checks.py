@@ -233,11 +233,27 @@ def main(work, render):
         links = sorted({(l.from_node.bl_idname, l.from_socket.identifier, l.to_node.bl_idname, l.to_socket.identifier)
                         for l in material.node_tree.links})
         normals = read_exr(os.path.join(out, "normal.exr")) if os.path.exists(os.path.join(out, "normal.exr")) else None
+        # painted again (here: the height map turned upside down): Reload Maps makes the normal map again
+        import hashlib
+
+        from paint_relief.core.files import io as core_io
+
+        height_path = os.path.join(out, "height.exr")
+        original = open(height_path, "rb").read()
+        height, _, attributes = core_io.read_exr(height_path)
+        kept = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
+        core_io.write_exr(height_path, height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
+        reload_result, reload_error = run_op(ops.reload_maps)
+        recorded = core_io.read_attributes(os.path.join(out, "normal.exr")).get("paint_relief:height_sha256")
+        matches = recorded == hashlib.sha256(open(height_path, "rb").read()).hexdigest()
+        with open(height_path, "wb") as f:
+            f.write(original)
         settings.displacement_method = "MESH"
         back, back_error = run_op(ops.build_canvas)
         return {"result": result, "error": error, "had_normals": had_normals, "links": links,
                 "normal_shape": None if normals is None else list(normals.shape),
                 "normal_z_min": None if normals is None else float(normals[..., 2].min()),
+                "reload": reload_result, "reload_error": reload_error, "reloaded_normals_match": matches,
                 "back_to_mesh": back, "back_error": back_error}
 
     @check
