@@ -130,8 +130,10 @@ def track_folds(first_row: np.ndarray, last_row: np.ndarray, touch: np.ndarray, 
     lowest = float(touch[ends].min()) if ends.size else 1.0
     n_levels = 1 + math.ceil((1.0 - lowest) * LEVELS_PER_CONTACT)
     inner = (first_row > 0) & (last_row < n_rows - 1)
-    exact = ends if ends.size <= 2 * n_levels else np.flatnonzero(inner)          # few: fold each exactly
-    tabled = np.setdiff1d(ends, exact, assume_unique=True)
+    if ends.size <= 2 * n_levels:                                                 # few: fold each exactly
+        exact, tabled = ends, ends[:0]
+    else:                                                                         # (inner runs are ends too)
+        exact, tabled = ends[inner[ends]], ends[~inner[ends]]
     if tabled.size:
         first, last, contact = first_row[tabled], last_row[tabled], touch[tabled]
         entry = np.where(first > 0, first, np.where(last < n_rows - 1, n_rows + last, 0))
