@@ -9,7 +9,14 @@ import pytest
 
 from core.cli import main
 from core.files import io
-from core.files.export import HEIGHT_DIGEST_ATTR, NORMAL_FILE, ensure_normal_map, file_digest, rows_with_halo
+from core.files.export import (
+    HEIGHT_DIGEST_ATTR,
+    NORMAL_FILE,
+    ensure_normal_map,
+    file_digest,
+    painting_attributes,
+    rows_with_halo,
+)
 from core.lighting import DEFAULT_RELIEF, encode_normals, normal_map, paper_lighting
 
 
@@ -78,7 +85,7 @@ def test_a_normal_map_is_made_for_the_height_map_it_belongs_to(painted, tmp_path
     stamp = made.stat().st_mtime_ns
     assert ensure_normal_map(folder).stat().st_mtime_ns == stamp            # the same height map: kept
     height, _, attributes = io.read_exr(folder / "height.exr")
-    kept = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
+    kept = painting_attributes(attributes)
     io.write_exr(folder / "height.exr", height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
     remade = io.read_exr(ensure_normal_map(folder))[0]                       # painted again: made again
     np.testing.assert_allclose(remade, encode_normals(normal_map(height[::-1, :, 0], DEFAULT_RELIEF)), atol=2e-3)

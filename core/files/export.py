@@ -80,6 +80,12 @@ HEIGHT_DIGEST_ATTR = "paint_relief:height_sha256"
 """normal.exr's record of the height.exr it was made from (its SHA-256)."""
 
 
+def painting_attributes(attributes: dict) -> dict:
+    """The Paint Relief attributes of a map's header (``map_attributes`` and the like) to write into another map;
+    the channel order is left out, as each map records its own."""
+    return {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
+
+
 def write_normal_map(path: Path, height: np.ndarray, attributes: dict, height_digest: str) -> None:
     """normal.exr at ``path``: tangent-space normals of the (H, W) ``height`` as height.exr stores it (in half
     floats; see ``write_painting``), recording ``height_digest``, the SHA-256 of that height.exr."""
@@ -111,8 +117,7 @@ def ensure_normal_map(folder: Path) -> Path:
         except InputError:
             pass                                    # unreadable: made again below
     height, _, attributes = io.read_exr(folder / "height.exr")
-    kept = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
-    write_normal_map(path, height[:, :, 0], kept, digest)
+    write_normal_map(path, height[:, :, 0], painting_attributes(attributes), digest)
     return path
 
 

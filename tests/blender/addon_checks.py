@@ -234,18 +234,16 @@ def main(work, render):
                         for l in material.node_tree.links})
         normals = read_exr(os.path.join(out, "normal.exr")) if os.path.exists(os.path.join(out, "normal.exr")) else None
         # painted again (here: the height map turned upside down): Reload Maps makes the normal map again
-        import hashlib
-
-        from paint_relief.core.files import io as core_io
+        from paint_relief.core.files.export import HEIGHT_DIGEST_ATTR, file_digest, painting_attributes
 
         height_path = os.path.join(out, "height.exr")
         original = open(height_path, "rb").read()
-        height, _, attributes = core_io.read_exr(height_path)
-        kept = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
-        core_io.write_exr(height_path, height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
+        height, _, attributes = io.read_exr(height_path)
+        kept = painting_attributes(attributes)
+        io.write_exr(height_path, height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
         reload_result, reload_error = run_op(ops.reload_maps)
-        recorded = core_io.read_attributes(os.path.join(out, "normal.exr")).get("paint_relief:height_sha256")
-        matches = recorded == hashlib.sha256(open(height_path, "rb").read()).hexdigest()
+        recorded = io.read_attributes(os.path.join(out, "normal.exr")).get(HEIGHT_DIGEST_ATTR)
+        matches = recorded == file_digest(height_path)["sha256"]
         with open(height_path, "wb") as f:
             f.write(original)
         settings.displacement_method = "MESH"
