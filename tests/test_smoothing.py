@@ -1,0 +1,52 @@
+"""The reference smoothed at a brush's scale (core.strokes.smoothing): blur, block levels and sampling."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from core.strokes.smoothing import smooth
+
+
+def test_small_sigmas_blur_at_full_resolution():
+    image = np.random.default_rng(0).random((40, 50, 3)).astype(np.float32)
+    level = smooth(image, 1.5)
+    assert level.factor == 1
+    expected = ndimage.gaussian_filter(image.astype(np.float64), sigma=(1.5, 1.5, 0), mode="reflect")
+    np.testing.assert_allclose(level.pixels, expected, atol=1e-5)
+    np.testing.assert_allclose(level.sample(np.array([7.0, 31.0]), np.array([4.0, 22.0])),
+                               expected[[4, 22], [7, 31]], atol=1e-5)
+
+
+@pytest.mark.parametrize("sigma", [6.0, 20.0])
+def test_block_levels_sample_a_linear_ramp_back(sigma):
+    # blurring and block means keep a linear ramp (away from the reflected borders); bilinear sampling then
+    # gives back the ramp's value at any position between block centres
+    h, w = 300, 400
+    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+    ramp = np.stack([0.002 * xx, 0.003 * yy, 0.001 * (xx + yy)], axis=-1).astype(np.float32)
+    level = smooth(ramp, sigma)
+    assert level.factor == int(sigma // 2)
+    x = np.array([170.0, 181.3, 200.75, 229.5])
+    y = np.array([125.0, 142.25, 150.5, 170.0])
+    expected = np.stack([0.002 * x, 0.003 * y, 0.001 * (x + y)], axis=-1)
+    np.testing.assert_allclose(level.sample(x, y), expected, atol=2e-4)
+
+
+@pytest.mark.parametrize("sigma", [0.0, 1.0, 9.0, 40.0])
+def test_one_point_is_sampled_as_many(sigma):
+    rng = np.random.default_rng(int(sigma))
+    level = smooth(rng.random((57, 83, 3)).astype(np.float32), sigma)
+    x = np.concatenate([rng.integers(-5, 90, 200), rng.uniform(-5, 90, 200)])
+    y = np.concatenate([rng.integers(-5, 62, 200), rng.uniform(-5, 62, 200)])
+    many = level.sample(x.astype(np.float32), y.astype(np.float32))
+    one = np.array([level.at(float(a), float(b)) for a, b in zip(np.float32(x), np.float32(y), strict=True)])
+    assert one.dtype == np.float32
+    np.testing.assert_array_equal(one, many)
+
+
+def test_a_one_pixel_image_is_that_pixel_everywhere():
+    level = smooth(np.array([[[0.2, 0.4, 0.6]]], np.float32), 0.0)
+    for x, y in ((0.0, 0.0), (3.5, -2.0)):
+        np.testing.assert_array_equal(level.at(x, y), np.array([0.2, 0.4, 0.6], np.float32))
