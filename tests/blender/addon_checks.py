@@ -18,9 +18,8 @@ import json
 import os
 import sys
 
-from recorder import RESULTS, check
+from recorder import RESULTS, check, load_extension
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MAP_W, MAP_H = 64, 48
 
 
@@ -76,18 +75,8 @@ def bilinear_resample(image, width, height):
 def main(work, render):
     import numpy as np
 
-    link = os.path.join(work, "pkg", "paint_relief")
-    os.makedirs(os.path.dirname(link), exist_ok=True)
-    if not os.path.islink(link):
-        os.symlink(REPO, link)
-    sys.path.insert(0, os.path.dirname(link))
-
-    import bpy
+    bpy = load_extension(work)
     import paint_relief
-
-    # An empty scene: the start-up file's cube would hide the canvas from the camera.
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    paint_relief.register()
     from paint_relief.core.files import io
 
     ops = bpy.ops.paint_relief

@@ -14,21 +14,11 @@ import json
 import os
 import sys
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from recorder import load_extension
 
 
 def main(work):
-    link = os.path.join(work, "pkg", "paint_relief")
-    os.makedirs(os.path.dirname(link), exist_ok=True)
-    if not os.path.islink(link):
-        os.symlink(REPO, link)
-    sys.path.insert(0, os.path.dirname(link))
-
-    import bpy
-    import paint_relief
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    paint_relief.register()
+    bpy = load_extension(work)
     settings = bpy.context.scene.paint_relief
     results = {}
     for name in sorted(os.listdir(work)):

@@ -1,7 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Shared by the Blender check scripts: record each check's findings or its traceback."""
+"""Shared by the Blender check scripts: load the extension, record each check's findings or its traceback."""
 
+import os
+import sys
 import traceback
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 RESULTS = {}
 
@@ -13,3 +17,21 @@ def check(function):
     except Exception:
         RESULTS[function.__name__] = {"exception": traceback.format_exc()}
     return function
+
+
+def load_extension(work):
+    """Import bpy and the repository as the package ``paint_relief`` (through a symbolic link in the
+    folder ``work``), start from an empty scene and register the extension as Blender would; returns bpy."""
+    link = os.path.join(work, "pkg", "paint_relief")
+    os.makedirs(os.path.dirname(link), exist_ok=True)
+    if not os.path.islink(link):
+        os.symlink(REPO, link)
+    sys.path.insert(0, os.path.dirname(link))
+
+    import bpy
+    import paint_relief
+
+    # An empty scene: the start-up file's cube would hide the canvas from the camera.
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    paint_relief.register()
+    return bpy
