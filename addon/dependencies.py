@@ -16,6 +16,15 @@ bundled binding is therefore loaded from Blender's own folder first, under
 its usual name, and every later ``import OpenImageIO`` (the painter's
 included) gets that one.
 
+The package carries a SciPy wheel for each Python that Blender ships (3.11 for
+4.2 LTS to 5.0, 3.13 for 5.1 and later), and Blender's installer takes the one
+of the running Python. Blender 4.2.0 alone keeps one wheel per distribution,
+the newest, whatever its Python, so on its Python 3.11 it installs the SciPy
+built for 3.13, which cannot import. There :func:`load_own_wheel` unpacks this
+Python's SciPy wheel from the package into the extension's user folder once
+and puts that folder first on ``sys.path``, as Blender does with the folder of
+the wheels it installs.
+
 Nothing is imported when the extension is enabled: :func:`problem` runs when
 an operator starts, before any painting or rendering.
 """
@@ -23,17 +32,22 @@ an operator starts, before any painting or rendering.
 import importlib.machinery
 import importlib.util
 import os
+import shutil
 import sys
+import zipfile
 
 import bpy
 
 OPENIMAGEIO = "OpenImageIO"
-# (module, what the painter needs it for, where it should have come from)
+# (distribution, module whose import proves it works, what the painter needs it for, where it comes from)
 REQUIRED = (
-    ("numpy", "arrays", "Blender's own Python"),
-    ("scipy", "image filters", "the extension's SciPy wheel"),
-    (OPENIMAGEIO, "reading and writing images", None),
+    ("numpy", "numpy", "arrays", "Blender's own Python"),
+    ("scipy", "scipy.ndimage", "image filters", "the extension's SciPy wheel"),
+    (OPENIMAGEIO, OPENIMAGEIO, "reading and writing images", None),
 )
+# The extension's package (``bl_ext.<repository>.paint_relief``) and its folder.
+EXTENSION_PACKAGE = __package__.rpartition(".")[0]
+EXTENSION_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def bundled_site_packages():
@@ -97,6 +111,43 @@ def openimageio_source(module):
     return "wheel"
 
 
+def own_wheel(distribution):
+    """The package's wheel of ``distribution`` built for the running Python (``-cp311-`` on 3.11), or None."""
+    folder = os.path.join(EXTENSION_DIR, "wheels")
+    tag = "-cp{}{}-".format(*sys.version_info[:2])
+    names = sorted(name for name in os.listdir(folder)
+                   if name.startswith(distribution + "-") and tag in name and name.endswith(".whl")
+                   ) if os.path.isdir(folder) else []
+    return os.path.join(folder, names[-1]) if names else None
+
+
+def load_own_wheel(distribution, module):
+    """Import ``module`` from the package's own wheel of ``distribution`` for this Python; None when there is none.
+
+    The wheel is unpacked once into the extension's user folder (through a
+    temporary name, so an interrupted unpacking is never used), that folder
+    goes first on ``sys.path`` and the modules of the unusable copy are
+    forgotten.
+    """
+    wheel = own_wheel(distribution)
+    if wheel is None:
+        return None
+    folder = bpy.utils.extension_path_user(EXTENSION_PACKAGE, path="wheels", create=True)
+    target = os.path.join(folder, os.path.basename(wheel)[:-len(".whl")])
+    if not os.path.isdir(target):
+        partial = target + ".partial"
+        shutil.rmtree(partial, ignore_errors=True)
+        with zipfile.ZipFile(wheel) as archive:
+            archive.extractall(partial)
+        os.replace(partial, target)
+    if target not in sys.path:
+        sys.path.insert(0, target)
+    for name in [n for n in sys.modules if n == distribution or n.startswith(distribution + ".")]:
+        del sys.modules[name]
+    importlib.invalidate_caches()
+    return importlib.import_module(module)
+
+
 def problem():
     """None when the painter's libraries import; else one sentence naming the missing one and the remedy.
 
@@ -104,12 +155,16 @@ def problem():
     operator starts, never at registration.
     """
     version = bpy.app.version_string
-    for name, use, source in REQUIRED:
+    for name, module, use, source in REQUIRED:
         try:
             if name == OPENIMAGEIO:
                 load_openimageio()
             else:
-                importlib.import_module(name)
+                try:
+                    importlib.import_module(module)
+                except ImportError:
+                    if load_own_wheel(name, module) is None:
+                        raise
         except ImportError as error:
             if name == OPENIMAGEIO:
                 source = "Blender {} (which has no OpenImageIO binding) or the extension's OpenImageIO wheel".format(

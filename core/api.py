@@ -8,7 +8,6 @@ from typing import Optional
 from .errors import InputError, PaintReliefError
 from .files import budget, io
 from .files.staging import output_folder
-from .heap import reused_heap
 from .params import Params
 from .progress import CancelFn, ProgressFn
 
@@ -51,7 +50,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
 
     check_input(input_path, params, mask_path, max_memory)
     try:
-        with output_folder(output_dir) as folder, reused_heap():
+        with output_folder(output_dir) as folder:
             image = io.read_image(input_path, params.max_megapixels, params.canvas_colour)
             mask = io.read_gray(mask_path, params.max_megapixels) if mask_path else None
             painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)

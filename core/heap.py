@@ -10,6 +10,11 @@ TRIM_THRESHOLD of free heap is kept; on leaving, glibc's default thresholds
 come back and the free heap is returned to the system (``malloc_trim``).
 Full-image arrays (larger than MMAP_THRESHOLD from about 3 megapixels) are
 still mapped and unmapped as before. Other C libraries are left as they are.
+
+The thresholds are process-wide, and glibc can neither report them nor give
+back its dynamic mmap threshold once they are set, so only the painter's own
+process uses this: ``python -m core paint`` wraps its run in it. Inside
+Blender (``core.paint_file`` from the panel) the heap is left as Blender set it.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The extension package: `make extension` builds one valid zip per platform
-(the extension plus that platform's SciPy and OpenImageIO wheels) that Blender installs,
+(the extension plus that platform's SciPy wheels for Python 3.11 and 3.13 and its OpenImageIO wheel for
+Blender 4.2's Python 3.11) that Blender installs,
 enables, disables and enables again.
 
 The build runs the Makefile's own `extension` target on a copy of the
@@ -42,6 +43,11 @@ DECOYS = (
     "core/__pycache__/decoy.cpython-311.pyc",
     "scene.blend1",
 )
+# The wheels each Python needs: SciPy everywhere; OpenImageIO only on Python 3.11, for Blender 4.2 LTS, which
+# has no OpenImageIO binding of its own (4.4 and later bundle one).
+PYTHON_TAGS = {"cp311": ("openimageio", "scipy"), "cp313": ("scipy",)}
+# Platforms where no Blender runs that Python: Blender 4.5 LTS is the last for Intel Macs.
+NO_BLENDER = {("macos-x64", "cp313")}
 # Top-level entries of the repository that belong in the package.
 PACKAGE_ROOTS = {"blender_manifest.toml", "__init__.py", "addon", "core", "README.md", "LICENSE"}
 
@@ -132,10 +138,26 @@ def test_manifest_is_complete():
     wheels = manifest["wheels"]
     assert all(w.startswith(("./wheels/scipy-", "./wheels/openimageio-")) and w.endswith(".whl") for w in wheels), wheels
     assert not any("numpy" in w for w in wheels), "numpy comes with Blender and must not be bundled"
+    assert set(PYTHON_TAGS) == {"cp311", "cp313"}, "Blender 4.2 to 5.0 ship Python 3.11, 5.1 and later 3.13"
+    for platform_name in manifest["platforms"]:
+        for tag, versions in PYTHON_TAGS.items():
+            if (platform_name, tag) in NO_BLENDER:
+                continue
+            own = [w for w in wheels if "-{}-".format(tag) in w and _for_platform(w, platform_name)]
+            assert sorted(w.split("/")[-1].split("-")[0] for w in own) == sorted(versions), (platform_name, tag, own)
     for name in ("scipy", "openimageio"):
-        own = [w for w in wheels if w.startswith("./wheels/{}-".format(name))]
-        assert len(own) == len(manifest["platforms"]), "one {} wheel per platform: {}".format(name, own)
-        assert len({w.split("-")[1] for w in own}) == 1, "every platform gets the same {} version".format(name)
+        for tag in PYTHON_TAGS:
+            own = {w.split("-")[1] for w in wheels if w.startswith("./wheels/{}-".format(name)) and "-{}-".format(tag) in w}
+            assert len(own) <= 1, "every platform gets the same {} version for {}: {}".format(name, tag, own)
+
+
+def _for_platform(wheel, platform_name):
+    """True when the wheel file is for Blender's platform name, e.g. 'linux-x64'."""
+    system, machine = platform_name.split("-")
+    tag = wheel.rsplit("-", 1)[-1]
+    arch = {"x64": ("x86_64", "amd64"), "arm64": ("arm64", "aarch64")}[machine]
+    prefix = {"linux": "manylinux", "macos": "macosx", "windows": "win"}[system]
+    return tag.startswith(prefix) and tag[:-len(".whl")].endswith(arch)
 
 
 def test_packages_hold_the_extension_and_nothing_else(built_zips):
@@ -159,8 +181,12 @@ def test_packages_hold_the_extension_and_nothing_else(built_zips):
         assert not missing, "addon files missing from {}: {}".format(zip_path.name, missing)
 
         wheels = sorted(name for name in names if name.startswith("wheels/"))
-        assert len(wheels) == 2 and all("./" + w in manifest["wheels"] for w in wheels), (zip_path.name, wheels)
-        assert sorted(w.split("/")[1].split("-")[0] for w in wheels) == ["openimageio", "scipy"], wheels
+        platform_name = zip_path.stem.rsplit("-", 1)[-1].replace("_", "-")
+        assert wheels == sorted(w[2:] for w in manifest["wheels"] if _for_platform(w, platform_name)), wheels
+        for tag, versions in PYTHON_TAGS.items():
+            if (platform_name, tag) not in NO_BLENDER:
+                own = sorted(w.split("/")[1].split("-")[0] for w in wheels if "-{}-".format(tag) in w)
+                assert own == sorted(versions), (zip_path.name, tag, own)
         stray = sorted(name for name in names
                        if name.split("/")[0] not in PACKAGE_ROOTS | {"wheels"}
                        or any(part.startswith(".") or part == "__pycache__" for part in name.split("/"))

@@ -411,7 +411,8 @@ def normal_strength(thickness):
 def set_thickness(obj, thickness):
     """Give a built canvas paint ``thickness`` metres thick at once: modifier, Displacement, Bump, Normal Map.
 
-    Leaves the canvas's relief switched on, as built; nothing else changes.
+    Only the extension's own nodes change (a user's Bump or Displacement keeps
+    its values). Leaves the canvas's relief switched on, as built; nothing else changes.
     """
     obj[THICKNESS_KEY] = float(thickness)
     modifier = obj.modifiers.get(DISPLACE_MODIFIER)
@@ -420,12 +421,12 @@ def set_thickness(obj, thickness):
     material = obj.active_material
     if material is None or material.node_tree is None:
         return
-    for node in material.node_tree.nodes:
+    for node in own_nodes(material.node_tree).values():
         if node.bl_idname == "ShaderNodeDisplacement":
             node.inputs["Scale"].default_value = thickness
         elif node.bl_idname == "ShaderNodeBump":
             node.inputs["Distance"].default_value = thickness
-        elif node.bl_idname == "ShaderNodeNormalMap" and node.get(OWN_NODE_KEY):
+        elif node.bl_idname == "ShaderNodeNormalMap":
             node.inputs["Strength"].default_value = normal_strength(thickness)
 
 
@@ -625,7 +626,8 @@ def canvas_thickness(obj):
     if THICKNESS_KEY in obj:
         return float(obj[THICKNESS_KEY])
     material = obj.active_material
-    bump = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBump"), None) if material else None
+    tree = material.node_tree if material else None
+    bump = next((n for n in own_nodes(tree).values() if n.bl_idname == "ShaderNodeBump"), None) if tree else None
     if bump is None:
         raise CanvasError("Canvas {} has no paint thickness: build the canvas again.".format(obj.name))
     return float(bump.inputs["Distance"].default_value)  # the Bump's distance is never switched off
@@ -637,7 +639,8 @@ def set_relief(obj, enabled):
     Off: the Displace modifier's strength, the material Displacement's scale and
     the fine Bump's strength are 0, so geometry and shading normals are those
     of a flat plane; colour, roughness and everything else stay. On: the values
-    ``build_canvas`` set. Works for both displacement methods.
+    ``build_canvas`` set. Works for both displacement methods. Nodes a user
+    added are left as they are.
     """
     thickness = canvas_thickness(obj)
     modifier = obj.modifiers.get(DISPLACE_MODIFIER)
@@ -645,10 +648,10 @@ def set_relief(obj, enabled):
         modifier.strength = thickness if enabled else 0.0
     material = obj.active_material
     if material is not None and material.node_tree is not None:
-        for node in material.node_tree.nodes:
+        for node in own_nodes(material.node_tree).values():
             if node.bl_idname == "ShaderNodeDisplacement":
                 node.inputs["Scale"].default_value = thickness if enabled else 0.0
             elif node.bl_idname == "ShaderNodeBump":
                 node.inputs["Strength"].default_value = FINE_BUMP_STRENGTH if enabled else 0.0
-            elif node.bl_idname == "ShaderNodeNormalMap" and node.get(OWN_NODE_KEY):
+            elif node.bl_idname == "ShaderNodeNormalMap":
                 node.inputs["Strength"].default_value = normal_strength(thickness) if enabled else 0.0

@@ -12,6 +12,8 @@ step that raises records its traceback); the last line printed is
 ``RESULTS <json>``, which test_flow.py asserts on.
 """
 
+import ctypes
+import ctypes.util
 import json
 import os
 import sys
@@ -38,6 +40,48 @@ def run_op(op, **kwargs):
         return None, str(error)
 
 
+class _MallocInfo(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_size_t) for name in (
+        "arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks", "uordblks", "fordblks", "keepcost")]
+
+
+def malloc_state():
+    """glibc's mmap threshold as behaviour shows it: {"threshold": bytes, "adapts": bool}, or None (not glibc).
+
+    glibc has no call that reports its malloc parameters, so they are read
+    from what it does. ``threshold`` is the smallest power of two from 128 KiB
+    to 64 MiB that a malloc maps instead of taking from the heap; ``adapts``
+    is whether freeing that block raised the threshold, as glibc's dynamic
+    threshold does until ``mallopt`` fixes it for the rest of the process.
+    The reading itself raises a dynamic threshold, never lowers it.
+    """
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        libc.mallinfo2.restype = _MallocInfo
+    except (OSError, AttributeError):
+        return None
+    libc.malloc.restype = ctypes.c_void_p
+    libc.malloc.argtypes = [ctypes.c_size_t]
+    libc.free.argtypes = [ctypes.c_void_p]
+
+    def mapped(size):
+        before = libc.mallinfo2().hblks
+        block = libc.malloc(size)
+        found = libc.mallinfo2().hblks > before
+        libc.free(block)
+        return found
+
+    threshold = next((2 ** k for k in range(17, 27) if mapped(2 ** k)), None)
+    return {"threshold": threshold, "adapts": threshold is not None and not mapped(threshold)}
+
+
+def process_settings():
+    """What a panel Paint must leave as it found it: environment, locale, glibc's malloc thresholds."""
+    import locale
+
+    return {"environ": dict(os.environ), "locale": locale.setlocale(locale.LC_ALL), "malloc": malloc_state()}
+
+
 def main(zip_path, work):
     import bpy
 
@@ -59,7 +103,11 @@ def main(zip_path, work):
         import OpenImageIO
         import scipy
 
-        return {"problem": problem, "openimageio": OpenImageIO.__file__,
+        user = os.environ["BLENDER_USER_RESOURCES"]
+        installed = sorted(os.path.relpath(os.path.join(root, name), user) for root, dirs, _ in os.walk(user)
+                           for name in dirs if name.endswith(".dist-info"))
+        return {"problem": problem, "openimageio": OpenImageIO.__file__, "installed": installed,
+                "python": list(sys.version_info[:2]),
                 "openimageio_source": dependencies.openimageio_source(OpenImageIO),
                 "openimageio_version": OpenImageIO.VERSION_STRING, "numpy": numpy.__version__,
                 "scipy": scipy.__version__, "scipy_file": scipy.__file__,
@@ -81,9 +129,11 @@ def main(zip_path, work):
         settings.image_path = photo
         settings.output_dir = os.path.join(work, "painted")
         settings.stroke_sizes = "400,200"
+        before = process_settings()
         result, error = run_op(ops.paint)
+        after = process_settings()
         folder = settings.painting_dir
-        return {"result": result, "error": error, "painting_dir": folder,
+        return {"result": result, "error": error, "painting_dir": folder, "process": [before, after],
                 "files": sorted(os.listdir(folder)) if folder and os.path.isdir(folder) else []}
 
     @step
@@ -210,6 +260,30 @@ def main(zip_path, work):
                 "base_colour_from": base.links[0].from_node.name if base.links else None,
                 "modifiers": [m.name for m in obj.modifiers], "bevel_kept": bevel.name in obj.modifiers,
                 "displace_strength": obj.modifiers["Paint Relief Displace"].strength}
+
+    @step
+    def user_nodes_keep_their_values():
+        obj = canvas_mod.canvases(scene)[0]
+        tree = obj.active_material.node_tree
+        bump = tree.nodes.new("ShaderNodeBump")
+        bump.name = "My Bump"
+        bump.inputs["Strength"].default_value = 0.77
+        bump.inputs["Distance"].default_value = 0.05
+        displacement = tree.nodes.new("ShaderNodeDisplacement")
+        displacement.name = "My Displacement"
+        displacement.inputs["Scale"].default_value = 0.2
+
+        def values():
+            return {name: [round(tree.nodes[name].inputs[key].default_value, 6) for key in keys] for name, keys in (
+                ("My Bump", ("Strength", "Distance")), ("My Displacement", ("Scale",)),
+                ("Paint Relief Bump", ("Strength", "Distance")), ("Paint Relief Displacement", ("Scale",)))}
+
+        settings.thickness_mm = 2.0           # the panel's thickness: a live update of every canvas
+        thicker = values()
+        canvas_mod.set_relief(obj, False)     # the comparison's flat renders
+        flat = values()
+        canvas_mod.set_relief(obj, True)
+        return {"thicker": thicker, "flat": flat, "relief": values()}
 
     @step
     def agx_stays_agx():

@@ -34,6 +34,8 @@ def test_libraries_come_from_blender_or_the_zip(flow):
     assert found["problem"] is None
     user = found["user_resources"]
     assert found["scipy_file"].startswith(user), "SciPy must come from the zip's wheel"
+    # The SciPy wheel of this Python: 1.15.3 (NumPy 1.24 and later) on 3.11, 1.18.1 (NumPy 2) on 3.13.
+    assert found["scipy"] == {(3, 11): "1.15.3", (3, 13): "1.18.1"}[tuple(found["python"])], found
     if tuple(flow["install"]["blender"]) >= (4, 4, 0):
         assert found["openimageio_source"] == "blender", found["openimageio"]
     else:
@@ -44,6 +46,14 @@ def test_paint(flow):
     found = _step(flow, "paint")
     assert found["result"] == ["FINISHED"], found["error"]
     assert {"color.exr", "height.exr", "opacity.exr", "painting.png"} <= set(found["files"])
+
+
+def test_panel_paint_leaves_the_process_as_it_found_it(flow):
+    before, after = _step(flow, "paint")["process"]
+    assert after["environ"] == before["environ"] and after["locale"] == before["locale"]
+    if before["malloc"] is not None:  # glibc: its mmap threshold still adapts and was not lowered
+        assert after["malloc"]["adapts"] == before["malloc"]["adapts"], (before["malloc"], after["malloc"])
+        assert (after["malloc"]["threshold"] or 2 ** 27) >= (before["malloc"]["threshold"] or 2 ** 27)
 
 
 def test_canvas_lights_camera(flow):
@@ -100,6 +110,16 @@ def test_rebuild_keeps_transform_modifiers_and_user_nodes(flow):
     assert found["extra_node"] and found["base_colour_from"] == "My Hue"
     assert found["bevel_kept"] and found["modifiers"].index("Paint Relief Displace") < found["modifiers"].index("My Bevel")
     assert found["displace_strength"] == pytest.approx(0.003)
+
+
+def test_thickness_and_relief_change_only_the_extensions_nodes(flow):
+    found = _step(flow, "user_nodes_keep_their_values")
+    for state in ("thicker", "flat", "relief"):
+        assert found[state]["My Bump"] == [0.77, 0.05] and found[state]["My Displacement"] == [0.2], found
+    assert found["thicker"]["Paint Relief Bump"][1] == pytest.approx(0.002)
+    assert found["thicker"]["Paint Relief Displacement"] == [pytest.approx(0.002)]
+    assert found["flat"]["Paint Relief Bump"][0] == 0 and found["flat"]["Paint Relief Displacement"] == [0]
+    assert found["relief"] == found["thicker"]
 
 
 def test_agx_stays_agx(flow):
