@@ -71,7 +71,7 @@ def read_gif(blob: bytes):
 
 def test_gif_round_trip(tmp_path):
     rng = np.random.default_rng(2)
-    gradient = np.dstack(np.meshgrid(np.linspace(0, 1, 70), np.linspace(0, 1, 50))[::-1] + [np.full((50, 70), 0.4)])
+    gradient = np.dstack([*np.meshgrid(np.linspace(0, 1, 70), np.linspace(0, 1, 50))[::-1], np.full((50, 70), 0.4)])
     noise = rng.random((50, 70, 3))
     flat = np.full((50, 70, 3), 0.5)
     path = tmp_path / "anim.gif"
