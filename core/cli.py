@@ -82,8 +82,8 @@ def _add_analysis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sizes", type=_sizes, default=DEFAULTS.stroke_sizes, metavar="64,32,16,8,4",
                    help="standard stroke widths in px at 1 megapixel, scaled with the image (default: %(default)s)")
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
-                   help="0..1, how finely detailed areas are split; the stop energy is "
-                        "T_e = total energy * 10^-(2 + 3 X) (default: %(default)s)")
+                   help="0..1, how finely detailed areas are split; the stop energy is T_e = 16^(1 - X) times "
+                        "the energy of a detailed area of the second-smallest stroke size (default: %(default)s)")
     p.add_argument("--mask", metavar="PATH", help="grayscale importance mask; white areas get smaller strokes (default: none)")
     p.add_argument("--mask-strength", type=_float, default=DEFAULTS.mask_strength, metavar="K",
                    help="k in E' = E (1 + k mask) (default: %(default)s)")

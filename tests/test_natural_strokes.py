@@ -236,12 +236,16 @@ def test_bundled_sample_strokes_are_long_clean_and_cover_the_canvas():
     assert shape["dab_area_share"] <= 0.03
     inner = painting.coverage[4:-4, 4:-4]
     assert np.mean(inner < 0.5) < 0.001                            # bare canvas below 0.1 %
-    first = [s for s in painting.strokes if s.layer == 0]
-    on_corner = 0
-    corners = {(int(g[0]), int(g[1])) for g in painting.analysis.grids}
-    for s in first:
-        on_corner += tuple(s.anchor) in corners
-    assert on_corner < 0.05 * len(first)                           # ties broken by the generator
+    # Ties are broken by the generator, not raster order: in grids of 64 px or more, a first-layer anchor
+    # lands on the grid's corner (x0, y0) about once in area times, not every time.
+    grids = painting.analysis.grids.astype(np.int64)
+    which = np.full(painting.coverage.shape, -1)
+    for k, (x0, y0, x1, y1) in enumerate(grids.tolist()):
+        if (x1 - x0) * (y1 - y0) >= 64:
+            which[y0:y1, x0:x1] = k
+    first = [s for s in painting.strokes if s.layer == 0 and which[s.anchor[1], s.anchor[0]] >= 0]
+    on_corner = sum(tuple(s.anchor) == tuple(grids[which[s.anchor[1], s.anchor[0]], :2]) for s in first)
+    assert len(first) > 100 and on_corner < 0.05 * len(first)
     assert math.isfinite(painting.statistics["psnr_db"]) and painting.statistics["psnr_db"] > 22
 
 

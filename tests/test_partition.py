@@ -13,6 +13,7 @@ from core.analysis.partition import (
     DEFAULT_DELTA,
     best_cut,
     cut_costs,
+    detail_energy,
     detail_threshold,
     nearest_size,
     partition,
@@ -244,7 +245,7 @@ def test_best_cut_equals_brute_force(seed, h, w, min_side, kind, gamma, delta, d
 )
 def test_tiling_and_size_rules(seed, h, w, sizes, kind, detail):
     e = energy_map(seed, h, w, kind)
-    t_e = detail_threshold(e, detail)
+    t_e = detail_threshold(e, detail, sizes)
     rects = partition(e, sizes, t_e)
     assert rects.dtype == np.int32 and rects.ndim == 2 and rects.shape[1] == 4
     x0, y0, x1, y1 = (rects[:, k].astype(np.int64) for k in range(4))
@@ -281,7 +282,7 @@ def test_tiling_and_size_rules(seed, h, w, sizes, kind, detail):
 )
 def test_vectorised_equals_recursive_best_cut(seed, h, w, sizes, kind, detail, gamma):
     e = energy_map(seed, h, w, kind)
-    t_e = detail_threshold(e, detail)
+    t_e = detail_threshold(e, detail, sizes)
     got = partition(e, sizes, t_e, gamma=gamma)
     dfs = reference_partition(e, sizes, t_e, gamma=gamma, order="dfs")
     assert np.array_equal(sorted_rows(got), sorted_rows(dfs))
@@ -296,7 +297,7 @@ def test_vectorised_equals_recursive_on_larger_image():
     rng = np.random.default_rng(7)
     e = gaussian_filter(rng.random((300, 420)), 3)
     e = ((e - e.min()) / (e.max() - e.min())).astype(np.float32)
-    t_e = detail_threshold(e, 0.7)
+    t_e = detail_threshold(e, 0.7, SIZES)
     got = partition(e, SIZES, t_e)
     ref = reference_partition(e, SIZES, t_e, order="bfs")
     assert len(got) > 200
@@ -310,7 +311,7 @@ def test_textured_half_gets_more_smaller_grids():
     e[:, :128] = 0.002 * rng.random((h, 128))
     e[:, 128:] = rng.random((h, 128))
     sizes = (32, 16, 8, 4)
-    rects = partition(e, sizes, detail_threshold(e, 0.6)).astype(np.int64)
+    rects = partition(e, sizes, detail_threshold(e, 0.6, sizes)).astype(np.int64)
     assert np.all(coverage(rects, h, w) == 1)
     cx = (rects[:, 0] + rects[:, 2]) / 2.0
     area = (rects[:, 2] - rects[:, 0]) * (rects[:, 3] - rects[:, 1])
@@ -351,7 +352,7 @@ def test_zero_energy_only_max_area_splits(shape, sizes):
 def test_blank_canvas_stops_at_the_largest_size():
     # A grid holding no more than T_e stops once it is within max_area, even when T_e = 0.
     e = np.zeros((64, 64), np.float32)
-    rects = partition(e, (16, 4), detail_threshold(e, 0.5)).astype(np.int64)
+    rects = partition(e, (16, 4), detail_threshold(e, 0.5, (16, 4))).astype(np.int64)
     assert len(rects) == 16
     assert np.all((rects[:, 2] - rects[:, 0]) == 16) and np.all((rects[:, 3] - rects[:, 1]) == 16)
 
@@ -370,7 +371,7 @@ def test_detail_is_monotonic():
     rng = np.random.default_rng(11)
     e = gaussian_filter(rng.random((240, 320)), 2)
     e = ((e - e.min()) / (e.max() - e.min())).astype(np.float32)
-    counts = [len(partition(e, SIZES, detail_threshold(e, d))) for d in np.linspace(0, 1, 11)]
+    counts = [len(partition(e, SIZES, detail_threshold(e, d, SIZES))) for d in np.linspace(0, 1, 11)]
     assert all(a <= b for a, b in zip(counts, counts[1:], strict=False))
     assert counts[-1] > counts[0]
 
@@ -384,7 +385,7 @@ def test_single_pixel_and_tiny_canvases():
 
 def test_sizes_in_any_order_give_same_partition():
     e = energy_map(5, 70, 90)
-    t_e = detail_threshold(e, 0.5)
+    t_e = detail_threshold(e, 0.5, SIZES)
     a = partition(e, (4, 32, 8, 16), t_e)
     b = partition(e, (32, 16, 8, 4), t_e)
     assert np.array_equal(a, b)
@@ -411,7 +412,7 @@ def test_bad_inputs_raise():
     with pytest.raises(ParameterError):
         partition(e, SIZES, 0.0, gamma=-1.0)
     with pytest.raises(ParameterError):
-        detail_threshold(e, 1.5)
+        detail_threshold(e, 1.5, SIZES)
 
 
 # ---------------------------------------------------------------------------
@@ -443,8 +444,40 @@ def test_nearest_size_hand_worked():
 
 
 def test_detail_threshold_mapping():
-    e = np.full((10, 20), 0.5, np.float32)  # total 100
-    assert detail_threshold(e, 0.0) == pytest.approx(1.0)
-    assert detail_threshold(e, 1.0) == pytest.approx(1e-3)
-    assert detail_threshold(e, 0.5) == pytest.approx(100 * 10 ** -3.5)
-    assert detail_threshold(np.zeros((5, 5)), 0.3) == 0.0
+    # A uniform energy: every window's mean is 0.5, so T_e = q * 0.5 * s2^2 with s2 = 8 (the second-smallest).
+    e = np.full((40, 60), 0.5, np.float32)
+    sizes = (64, 32, 16, 8, 4)
+    assert detail_threshold(e, 0.0, sizes) == pytest.approx(16 * 0.5 * 64)
+    assert detail_threshold(e, 0.5, sizes) == pytest.approx(4 * 0.5 * 64)
+    assert detail_threshold(e, 0.75, sizes) == pytest.approx(2 * 0.5 * 64)
+    assert detail_threshold(e, 1.0, sizes) == pytest.approx(0.5 * 64)
+    assert detail_threshold(e, 0.5, (12,)) == pytest.approx(4 * 0.5 * 144)   # one size: s2 is that size
+    assert detail_threshold(np.zeros((5, 5)), 0.3, sizes) == 0.0
+
+
+def test_detail_energy_is_the_95th_percentile_of_window_means():
+    # Left 90 % of the columns at 0.1, right 10 % at 0.9: windows of 4 x 4 px fully inside the bright band
+    # are the top 5 % or so, so the 95th percentile is the bright band's energy, not the image's mean.
+    e = np.full((40, 200), 0.1, np.float32)
+    e[:, 180:] = 0.9
+    assert detail_energy(e, 4) == pytest.approx(0.9)
+    assert float(e.mean()) == pytest.approx(0.18)
+    assert detail_energy(np.full((3, 3), 0.4), 8) == pytest.approx(0.4)   # smaller than one window
+
+
+def test_detail_keeps_its_meaning_across_image_sizes():
+    """The same photo at 1 MP and at 4 MP: sizes scale with the side, and the grids per size stay in proportion."""
+    from scipy.ndimage import gaussian_filter, zoom
+
+    rng = np.random.default_rng(3)
+    small = gaussian_filter(rng.random((250, 400)), 1.5)
+    small[:, :200] *= 0.05                               # a smooth half and a detailed half
+    small = (small / small.max()).astype(np.float32)
+    large = np.clip(zoom(small, 2, order=1), 0, 1).astype(np.float32)
+    shares = []
+    for e, scale in ((small, 1), (large, 2)):
+        sizes = tuple(s * scale for s in (32, 16, 8, 4))
+        rects = partition(e, sizes, detail_threshold(e, 0.75, sizes))
+        got = nearest_size(rects, sizes)
+        shares.append([float(np.mean(got == s)) for s in sizes])
+    assert np.allclose(shares[0], shares[1], atol=0.12), shares

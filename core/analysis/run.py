@@ -54,7 +54,7 @@ def analyze(image: np.ndarray, params: Params, mask: Optional[np.ndarray] = None
     importance = timed("importance", 0.35, "Computing the importance map", importance_map,
                        reference, params.energy_percentile, mask, params.mask_strength)
     sizes = scaled_sizes(params, h, w)
-    threshold = detail_threshold(importance, params.detail)
+    threshold = detail_threshold(importance, params.detail, sizes)
     grids = timed("partition", 0.45, "Partitioning the canvas", partition,
                   importance, sizes, threshold, params.partition_delta, params.partition_gamma)
     grid_sizes = nearest_size(grids, sizes)

@@ -268,6 +268,7 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
         "hertzmann_style": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(chosen).items()},
     }
     stage.report(1.0, f"Painted {len(strokes)} strokes")
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)   # Eq. 4 keeps [0, 1] up to float32 rounding
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, orientation, strokes, analysis,
                     params, statistics)
 

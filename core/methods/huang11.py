@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Dict, List, Optional
 
@@ -71,13 +72,14 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
         "renderer": params.renderer,
     }
     stage.report(1.0, f"Painted {len(strokes)} strokes")
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)   # Eq. 4 keeps [0, 1] up to float32 rounding
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
                     strokes, analysis, params, statistics)
 
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: dict,
                   sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
-    """The detail pass: strokes of the smallest brush on small features the layers missed (``core.strokes.details``).
+    """The detail pass: one dab of the smallest brush on each point highlight the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
     reference: an edge-preserving denoise halves the contrast of features a
@@ -91,13 +93,14 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: d
                              {s: sources[s].edges for s in analysis.sizes}, smallest, params.difference_threshold)
     rng = np.random.default_rng([params.seed, layer])
     exact = detail_sources(image)
+    dab = dataclasses.replace(params, min_length=0, max_length=0)   # the anchor alone: a dab, no path
     limit = params.difference_threshold ** 2
     strokes: List[Stroke] = []
     for done, (x, y) in enumerate(anchors.tolist()):
         miss = image[y, x] - canvas.colour[y, x]
         if float(miss @ miss) > limit:
             strokes.append(paint_stroke(canvas, exact, analysis.orientation, (x, y), smallest, layer,
-                                        tips[smallest], rng, params))
+                                        tips[smallest], rng, dab))
         stage.check()
         if done % 200 == 0:
             stage.report(done / max(1, len(anchors)), f"Details: {len(strokes)} strokes")
@@ -120,7 +123,7 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
         count = 0
         for grid, size in zip(grids, sizes, strict=True):
             done += 1
-            anchor = choose_anchor(grid, canvas.coverage, canvas.colour, analysis.reference,
+            anchor = choose_anchor(grid, canvas.opacity, canvas.colour, sources[size].edges,
                                    params.coverage_threshold, params.difference_threshold, rng)
             if anchor is not None:
                 strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size,

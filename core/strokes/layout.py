@@ -13,11 +13,24 @@ def grid_order(grids: np.ndarray) -> np.ndarray:
     return np.argsort(-areas, kind="stable")
 
 
-def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference: np.ndarray,
+def grid_pixels(source, grid) -> np.ndarray:
+    """(gh, gw, 3) float32 colours of ``grid`` (x0, y0, x1, y1) from an (H, W, 3) array or a ``SmoothedImage``."""
+    x0, y0, x1, y1 = grid
+    if isinstance(source, np.ndarray):
+        return source[y0:y1, x0:x1]
+    ys, xs = np.mgrid[y0:y1, x0:x1].astype(np.float32)
+    return source.sample(xs, ys)
+
+
+def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference,
                   coverage_threshold: float, difference_threshold: float,
                   rng: np.random.Generator) -> Optional[Tuple[int, int]]:
     """The anchor (x, y) of this layer's stroke in ``grid`` (x0, y0, x1, y1), or None.
 
+    reference: what the grid's strokes aim at, an (H, W, 3) array or a
+    ``SmoothedImage`` (the painter passes the reference at the grid's brush
+    scale: a stroke cannot paint detail finer than its brush, so a later layer
+    adds a stroke only where the canvas misses what a stroke of this size can give).
     1. p_min, the least-covered pixel, if its coverage < T_c;
     2. else p_max, the pixel whose canvas colour differs most from the
        reference, if that Euclidean RGB distance > T_d;
@@ -30,7 +43,7 @@ def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference: np.
     low = cov.min()
     if low < coverage_threshold:
         return pick_tied(np.flatnonzero(cov == low), x0, y0, gw, rng)
-    diff = colour[y0:y1, x0:x1] - reference[y0:y1, x0:x1]
+    diff = colour[y0:y1, x0:x1] - grid_pixels(reference, grid)
     dist2 = np.einsum("ijk,ijk->ij", diff, diff)
     high = dist2.max()
     if high > difference_threshold * difference_threshold:
