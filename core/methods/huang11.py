@@ -14,7 +14,7 @@ from ..measures.stroke_metrics import stroke_shape
 from ..params import Params
 from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Analysis, Painting
-from ..strokes.brush import load_brush, tip_cache
+from ..strokes.brush import brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import detail_anchors, size_map
 from ..strokes.layout import choose_anchor, grid_order, hertzmann_anchors
@@ -47,7 +47,7 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     else:
         strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage)
     if params.detail_pass:
-        details = paint_details(canvas, image, analysis, tips, sources, params, len(per_layer),
+        details = paint_details(canvas, image, analysis, sources, params, len(per_layer),
                                 stage.sub(0.95, 1.0))
         strokes += details
         per_layer.append(len(details))
@@ -77,15 +77,16 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
                     strokes, analysis, params, statistics)
 
 
-def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: dict,
+def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
                   sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
     """The detail pass: one dab of the smallest brush on each point highlight the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
     reference: an edge-preserving denoise halves the contrast of features a
-    pixel or two wide, which are exactly the lights, glints and wires this
-    pass is for. Each anchor is checked again just before its stroke, since
-    an earlier detail stroke may already have painted it.
+    pixel or two wide, which are exactly the lights and glints this pass is
+    for. Each anchor is checked again just before its dab, since an earlier
+    dab may already have painted it. Dabs are laid with the round brush,
+    whatever the layers' brush: a flat brush's dab is a dash, and a star is a dot.
     """
     smallest = min(analysis.sizes)
     anchors = detail_anchors(image, canvas.colour,
@@ -94,13 +95,14 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis, tips: d
     rng = np.random.default_rng([params.seed, layer])
     exact = detail_sources(image)
     dab = dataclasses.replace(params, min_length=0, max_length=0)   # the anchor alone: a dab, no path
+    tip = brush_tip(load_brush("round"), smallest, params.transparency)
     limit = params.difference_threshold ** 2
     strokes: List[Stroke] = []
     for done, (x, y) in enumerate(anchors.tolist()):
         miss = image[y, x] - canvas.colour[y, x]
         if float(miss @ miss) > limit:
-            strokes.append(paint_stroke(canvas, exact, analysis.orientation, (x, y), smallest, layer,
-                                        tips[smallest], rng, dab))
+            strokes.append(paint_stroke(canvas, exact, analysis.orientation, (x, y), smallest, layer, tip, rng,
+                                        dab))
         stage.check()
         if done % 200 == 0:
             stage.report(done / max(1, len(anchors)), f"Details: {len(strokes)} strokes")
