@@ -7,9 +7,9 @@ smooth sky lies in a grid of the largest size, whose strokes take their
 colour from the reference smoothed at their own scale. Edges, thin lines and
 texture are not this pass's work: the partition gives detailed areas small
 strokes that run along them. A point feature is a pixel brighter (or darker)
-than every pixel of a square ring around it, at the smallest brush's scale,
-by a clear margin: along a line or an edge the ring meets pixels as bright as
-the feature, and in fine texture it meets the texture's own peaks.
+than all but one pixel of a square ring around it, at the smallest brush's
+scale, by a clear margin: along a line or an edge the ring meets pixels as
+bright as the feature, and in fine texture it meets the texture's own peaks.
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def ring_footprint(smallest: int) -> np.ndarray:
     """(2b + 1, 2b + 1) bool: the square ring between half-widths a < d <= b around a pixel (Chebyshev distance).
 
     smallest: the smallest stroke size in px. b = max(4, smallest) (the
-    surroundings one brush width away, and at least 72 pixels of them), a =
+    surroundings one brush width away, and at least 56 pixels of them), a =
     max(1, smallest // 2) (a feature up to about half the brush wide fits inside).
     """
     outer = max(4, int(smallest))
@@ -72,8 +72,9 @@ def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.nd
     found = np.zeros(lum.shape, bool)
     if rows.size == 0:
         return found
-    dy, dx = np.nonzero(ring_footprint(smallest))
-    reach = ring_footprint(smallest).shape[0] // 2
+    ring_mask = ring_footprint(smallest)
+    dy, dx = np.nonzero(ring_mask)
+    reach = ring_mask.shape[0] // 2
     ring = lum[np.clip(rows[:, None] + dy - reach, 0, lum.shape[0] - 1),
                np.clip(cols[:, None] + dx - reach, 0, lum.shape[1] - 1)]
     centre = lum[rows, cols]

@@ -27,6 +27,9 @@ def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference,
                   rng: np.random.Generator) -> Optional[Tuple[int, int]]:
     """The anchor (x, y) of this layer's stroke in ``grid`` (x0, y0, x1, y1), or None.
 
+    coverage: (H, W) in [0, 1], how fully each pixel is painted (the painter
+    passes the canvas opacity, where paint really lies; ALGORITHM §3's
+    coverage map counts faint fringe stamps as half a cover).
     reference: what the grid's strokes aim at, an (H, W, 3) array or a
     ``SmoothedImage`` (the painter passes the reference at the grid's brush
     scale: a stroke cannot paint detail finer than its brush, so a later layer
