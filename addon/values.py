@@ -39,6 +39,8 @@ def parse_sizes(text):
         if value > MAX_STROKE_SIZE:
             raise ValueError("Stroke size {} is larger than {} px, a brush as wide as a 1-megapixel "
                              "photograph.".format(value, MAX_STROKE_SIZE))
+        if value in sizes:
+            raise ValueError("Stroke size {} is given twice: give each size once.".format(value))
         sizes.append(value)
     return tuple(sizes)
 

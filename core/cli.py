@@ -40,7 +40,19 @@ def _sizes(text: str) -> tuple:
         sizes = tuple(int(s) for s in text.split(",") if s.strip())
     except ValueError:
         raise argparse.ArgumentTypeError(f"sizes must be whole numbers separated by commas, got {text[:40]!r}") from None
+    repeated = sorted({s for s in sizes if sizes.count(s) > 1})
+    if repeated:
+        raise argparse.ArgumentTypeError(f"each stroke size may be given once, got {', '.join(map(str, repeated))} "
+                                         f"more than once in {text[:40]!r}")
     return sizes
+
+
+def _folder(text: str) -> str:
+    """An output folder's path; an empty or blank one (an unset shell variable) is refused, never the current folder."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("the output folder is empty, which would write into the current folder; "
+                                         "name the folder (is a shell variable unset?)")
+    return text
 
 
 def _int(text: str) -> int:
@@ -78,7 +90,7 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
 
 def _add_analysis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("input", help="photograph to read (PNG, JPEG, TIFF, EXR, ...)")
-    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the outputs (created if missing)")
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR", help="folder for the outputs (created if missing)")
     p.add_argument("--sizes", type=_sizes, default=DEFAULTS.stroke_sizes, metavar="64,32,16,8,4",
                    help="standard stroke widths in px at 1 megapixel, scaled with the image (default: %(default)s)")
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
@@ -221,7 +233,7 @@ def _add_light_parser(sub) -> None:
                     "`python -m core paint` and write OUTDIR/lit_<model>.png (8-bit sRGB). Angles are "
                     "degrees; the azimuth points from the canvas towards the light, from +x (right) "
                     "towards +y (down the image): 0 = right, 90 = bottom, 180 = left, 270 = top.")
-    p.add_argument("outdir", metavar="OUTDIR", help="a folder written by `python -m core paint`")
+    p.add_argument("outdir", type=_folder, metavar="OUTDIR", help="a folder written by `python -m core paint`")
     p.add_argument("--model", required=True, metavar="paper|directional|bump",
                    help="paper: Eq. 6-7, the light turns with the strokes; directional: Eq. 6-7 with one "
                         "fixed light; bump: Blinn-Phong bump shading, one directional light (required)")
@@ -299,7 +311,7 @@ def _add_experiments_parser(sub) -> None:
                     "Hertzmann-layout ablation and the solid-lines ablation; write table.md, table.csv "
                     "(strokes, seconds, PSNR, SSIM, edge fidelity, stroke ratio) and <image>_sheet.png.")
     p.add_argument("images", nargs="+", metavar="IMAGE", help="photographs to paint")
-    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="folder for the tables and sheets")
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR", help="folder for the tables and sheets")
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="detail of the paper's method (default: %(default)s)")
     _add_run_options(p)

@@ -200,6 +200,7 @@ def test_bomb_is_refused_in_seconds(inputs, tmp_path):
     (["--alpha", "nan"], ["--alpha", "finite"]),
     (["--max-megapixels", "inf"], ["--max-megapixels"]),
     (["--layers", "99"], ["Layers"]),
+    (["--sizes", "64,8,8"], ["--sizes", "once", "8", "64,8,8"]),
 ])
 def test_bad_numbers_are_one_sentence_and_change_nothing(inputs, folder, capfd, options, words):
     out, before = folder
@@ -213,6 +214,18 @@ def test_bad_numbers_are_one_sentence_and_change_nothing(inputs, folder, capfd, 
     assert status == 2
     assert_one_sentence(capfd.readouterr().err, *words)
     assert snapshot(out) == before
+
+
+@pytest.mark.parametrize("command", ["paint", "analyze", "experiments"])
+@pytest.mark.parametrize("output", ["", "  "])
+def test_an_empty_output_folder_is_refused_and_nothing_is_written(inputs, tmp_path, command, output):
+    """`-o "$UNSET"` must not paint into the current folder."""
+    env = dict(os.environ, PYTHONPATH=str(REPO), PYTHONDONTWRITEBYTECODE="1")
+    run = subprocess.run([sys.executable, "-m", "core", command, str(inputs / "photo.png"), "-o", output, "-q"],
+                         capture_output=True, text=True, timeout=60, env=env, cwd=tmp_path)
+    assert run.returncode == 2
+    assert_one_sentence(run.stderr, "--output", "empty", "current folder")
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_sizes_100000_refused_within_a_second_on_the_command_line(inputs, tmp_path):
@@ -233,6 +246,8 @@ def test_panel_sizes_are_capped():
     with pytest.raises(ValueError, match="1024"):
         values.parse_sizes("64,100000")
     assert values.parse_sizes("1024,4") == (1024, 4)
+    with pytest.raises(ValueError, match="8 is given twice"):
+        values.parse_sizes("64, 8 8")
 
 
 def test_memory_error_is_one_sentence(inputs, folder, monkeypatch, capfd):
