@@ -323,6 +323,12 @@ def run_experiments_command(args: argparse.Namespace, progress) -> None:
     from .evaluation.experiments import run_experiments
 
     params = Params(detail=args.detail, seed=args.seed, max_megapixels=args.max_megapixels).validate()
+    seen = set()
+    for image in args.images:
+        if Path(image).resolve() in seen:
+            raise ParameterError(f"The image {image} is given twice: the table has one row per image, "
+                                 f"so give each image once.")
+        seen.add(Path(image).resolve())
     run_experiments([Path(p) for p in args.images], Path(args.output), params, progress=progress,
                     max_memory=max_memory(args))
 

@@ -228,6 +228,34 @@ def test_an_empty_output_folder_is_refused_and_nothing_is_written(inputs, tmp_pa
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("url", ["https://example.com/photos/cat.png", "file:///tmp/cat.png"])
+def test_a_url_input_is_named_whole_and_refused(tmp_path, capfd, url):
+    assert main(["paint", url, "-o", str(tmp_path / "out"), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, url, "URL", "not supported")
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_dangling_symlink_is_named_as_one(inputs, tmp_path, capfd):
+    (tmp_path / "photo.png").symlink_to(tmp_path / "gone.png")
+    assert main(["paint", str(tmp_path / "photo.png"), "-o", str(tmp_path / "out"), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "symbolic link", "gone.png", "does not exist")
+    (tmp_path / "out").symlink_to(tmp_path / "missing-folder")
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(tmp_path / "out"), "-q"]) == 2
+    err = capfd.readouterr().err
+    assert_one_sentence(err, "symbolic link", "missing-folder", "does not exist")
+    assert "in the way" not in err
+    assert (tmp_path / "out").is_symlink() and not (tmp_path / "missing-folder").exists()
+
+
+def test_experiments_refuse_an_image_given_twice(inputs, tmp_path, capfd):
+    photo = inputs / "photo.png"
+    same = tmp_path / ".." / tmp_path.name / "link.png"
+    (tmp_path / "link.png").symlink_to(photo)
+    assert main(["experiments", str(photo), str(same), "-o", str(tmp_path / "out"), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, str(same), "twice")
+    assert not (tmp_path / "out").exists()
+
+
 def test_sizes_100000_refused_within_a_second_on_the_command_line(inputs, tmp_path):
     t0 = time.monotonic()
     run = run_cli(["paint", inputs / "photo.png", "-o", tmp_path / "new", "--sizes", "100000"])

@@ -13,6 +13,7 @@ import contextlib
 import json
 import os
 import pathlib
+import re
 import secrets
 from dataclasses import dataclass
 from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
@@ -63,7 +64,9 @@ def _oiio_error(obj=None) -> str:
 
 
 def _check_input_path(path: pathlib.Path) -> None:
-    """Raise InputError when ``path`` is missing, a folder or an empty file."""
+    """Raise InputError when ``path`` is missing, a dangling symbolic link, a folder or an empty file."""
+    if path.is_symlink() and not path.exists():
+        raise InputError(f"The input file {path} is a symbolic link whose target {os.readlink(path)} does not exist.")
     if not path.exists():
         raise InputError(f"The input file {path} does not exist.")
     if path.is_dir():
@@ -78,6 +81,18 @@ def _is_linear(path: pathlib.Path, format_name: str, spec) -> bool:
         return True
     space = str(spec.get_string_attribute("oiio:ColorSpace", "")).lower()
     return space in _LINEAR_SPACES or space.startswith("lin_")
+
+
+URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
+"""A URL's scheme (https://, file://, s3://): the painter reads local files only."""
+
+
+def local_path(path: PathLike) -> pathlib.Path:
+    """``path`` as a Path; InputError when it is a URL (the text is kept whole in the sentence)."""
+    text = os.fspath(path)
+    if URL.match(text):
+        raise InputError(f"The input {text} is a URL, which is not supported: download the image and give its file.")
+    return pathlib.Path(text)
 
 
 @contextlib.contextmanager
@@ -111,7 +126,7 @@ def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, boo
     two (gray + alpha) or four (RGBA) and the colour is straight (not
     premultiplied). ``linear`` says the colour values are scene-linear.
     """
-    path = pathlib.Path(path)
+    path = local_path(path)
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
     with _opened(path, max_megapixels, config) as (inp, spec, _):
@@ -207,7 +222,7 @@ def probe(path: PathLike, max_megapixels: float = float("inf")) -> Tuple[int, in
     Same InputError rules as ``read_image`` for missing, empty, unreadable
     and too large files.
     """
-    with _opened(pathlib.Path(path), max_megapixels) as (_, spec, _):
+    with _opened(local_path(path), max_megapixels) as (_, spec, _):
         return int(spec.width), int(spec.height), int(spec.nchannels)
 
 

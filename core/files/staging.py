@@ -260,6 +260,9 @@ def output_folder(path) -> Iterator[OutputFolder]:
     holds it.
     """
     folder = pathlib.Path(path)
+    if folder.is_symlink() and not folder.exists():
+        raise OutputError(f"Cannot write to output folder {folder}: it is a symbolic link whose target "
+                          f"{os.readlink(folder)} does not exist.")
     created = _missing_parents(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
