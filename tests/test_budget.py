@@ -72,3 +72,10 @@ def test_estimate_bounds_a_measured_run(tmp_path):
     peak = usage.ru_maxrss * 1024
     estimate = budget.estimate_bytes(w, h)
     assert peak < estimate < 3 * peak, (peak, estimate)
+
+
+def test_sizes_and_pixel_counts_are_never_shown_as_zero():
+    assert budget.format_bytes(1024) == "1 KB" and budget.format_bytes(512) == "512 bytes"
+    assert budget.format_bytes(5 * 2**20) == "5 MB" and budget.format_bytes(3 * 2**30) == "3.0 GB"
+    assert budget.format_megapixels(96 * 72) == "0.0069 megapixels"
+    assert budget.format_megapixels(12_000_000) == "12.0 megapixels"

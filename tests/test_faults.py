@@ -186,6 +186,7 @@ def test_bomb_is_refused_in_seconds(inputs, tmp_path):
 @pytest.mark.parametrize("options, words", [
     (["--max-megapixels", "0.001"], ["megapixels"]),
     (["--max-memory", "1M"], ["memory", "--max-memory"]),
+    (["--max-memory", "1K"], ["--max-memory limit of 1 KB", "megapixels"]),
     (["--max-memory", "lots"], ["--max-memory"]),
     (["--mask", "TRUNCATED"], ["truncated_photo.png"]),
     (["--sizes", "100000"], ["1024"]),

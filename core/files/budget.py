@@ -114,10 +114,20 @@ def parse_size(text: str, option: str = "--max-memory") -> int:
 
 
 def format_bytes(n: float) -> str:
-    """Bytes as '1.2 GB' / '350 MB' (powers of 1024)."""
+    """Bytes as '1.2 GB' / '350 MB' / '12 KB' / '512 bytes' (powers of 1024); never shown as zero of a unit."""
     if n >= 2**30:
         return f"{n / 2**30:.1f} GB"
-    return f"{max(1, round(n / 2**20))} MB"
+    if n >= 2**20:
+        return f"{round(n / 2**20)} MB"
+    if n >= 2**10:
+        return f"{round(n / 2**10)} KB"
+    return f"{int(n)} bytes"
+
+
+def format_megapixels(pixels: int) -> str:
+    """A pixel count as '12.0 megapixels', with two significant digits below 0.1 ('0.0069 megapixels')."""
+    mp = pixels / 1e6
+    return f"{mp:.1f} megapixels" if mp >= 0.1 else f"{mp:.2g} megapixels"
 
 
 def check_stroke_sizes(params, height: int, width: int) -> None:
@@ -157,6 +167,6 @@ def check(path, width: int, height: int, layers: int = 4, mask: bool = False,
         limit = available_bytes()
         what = f"the {format_bytes(limit)} of memory available" if limit is not None else ""
     if limit is not None and need > limit:
-        raise InputError(f"Painting {path} ({width} x {height} pixels, {width * height / 1e6:.1f} megapixels) "
+        raise InputError(f"Painting {path} ({width} x {height} pixels, {format_megapixels(width * height)}) "
                          f"needs about {format_bytes(need)} of memory, more than {what}.")
     return need
