@@ -137,13 +137,16 @@ def test_solid_line_is_one_colour():
 
 
 def test_lines_renderer_single_stroke_one_colour():
-    from core.strokes.stroke import colour_sources, paint_stroke
+    from stamp_oracle import paint_one
+
+    from core.strokes.brush import brush_tip, load_brush
+    from core.strokes.stroke import colour_sources
     ref = textured(64, 64)
     canvas = Canvas.blank((64, 64), (0.93, 0.90, 0.84))
     orientation = np.zeros((64, 64), np.float32)
     params = Params(renderer="lines")
-    stroke = paint_stroke(canvas, colour_sources(ref, [8], params)[8], orientation, (20, 30), 8, 0, None,
-                          np.random.default_rng(0), params)
+    tip = brush_tip(load_brush("flat"), 8, params.transparency)
+    stroke = paint_one(canvas, colour_sources(ref, [8], params)[8], orientation, (20, 30), 8, tip, params)
     painted = canvas.opacity > 0
     inside = canvas.opacity > 0.999
     assert inside.sum() > 20

@@ -8,15 +8,15 @@ import pathlib
 
 import numpy as np
 import pytest
+from stamp_oracle import engine_footprint, paint_one, resampled, stroke_footprint
 
 from core.files.io import read_image
 from core.methods import paint
 from core.params import Params
 from core.strokes.brush import brush_tip, load_brush
 from core.strokes.canvas import Canvas
-from core.strokes.compositing import stroke_footprint, track_footprint
-from core.strokes.path import catmull_rom, resample_by_length, tangent_angles
-from core.strokes.stroke import bristle_colours, colour_jitter, colour_sources, end_profile, paint_stroke, ridge_profile
+from core.strokes.path import tangent_angles
+from core.strokes.stroke import bristle_colours, colour_jitter, colour_sources, end_profile, ridge_profile
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -33,7 +33,7 @@ def one_stroke(reference, anchor, size, brush_map, params=None, orientation=None
     canvas = canvas or Canvas.blank((h, w), params.canvas_colour)
     tip = brush_tip(brush_map, size, params.transparency)
     sources = colour_sources(reference, [size], params)[size]
-    stroke = paint_stroke(canvas, sources, orientation, anchor, size, 0, tip, np.random.default_rng(0), params)
+    stroke = paint_one(canvas, sources, orientation, anchor, size, tip, params)
     return canvas, stroke
 
 
@@ -130,12 +130,10 @@ def test_the_perturbation_changes_lightness_far_more_than_hue(flat):
     tip = brush_tip(flat, 16, 0.9)
     ref = np.full((40, 40, 3), (0.6, 0.35, 0.25), np.float32)
     sources = colour_sources(ref, [16], Params())[16]
-    rng = np.random.default_rng(11)
-    means = []
-    for _ in range(200):
-        colours, _ = bristle_colours(sources, (20, 20), 0.0, tip, 0.7, 0.15, colour_jitter(rng, 0.03, 0.0))
-        means.append(colours.mean(axis=0))
-    lab_values = lab(np.array(means, np.float64))
+    draws = np.random.default_rng(11).uniform(size=(200, 4))
+    shift, offset = colour_jitter(draws, 0.03, 0.0)
+    colours, _ = bristle_colours(sources, np.full((200, 2), 20), np.zeros(200), tip, 0.7, 0.15, shift, offset)
+    lab_values = lab(colours.mean(axis=1).astype(np.float64))
     lightness_spread = lab_values[:, 0].std()
     hue = np.arctan2(lab_values[:, 2], lab_values[:, 1])
     chroma = np.hypot(lab_values[:, 1], lab_values[:, 2]).mean()
@@ -158,9 +156,7 @@ def test_a_sub_pixel_shift_moves_the_centre_of_mass_by_that_shift(flat):
     def centre(shift):
         fp = stroke_footprint(base + shift, angles, tip.along, tip.across, tip.intensity, colours, (48, 64),
                               rows=tip.length)
-        y, x = np.mgrid[0:fp.deposit.shape[0], 0:fp.deposit.shape[1]].astype(np.float64)
-        y += fp.top
-        x += fp.left
+        y, x = np.divmod(fp.pixel, 64)
         return np.array([np.sum(x * fp.deposit), np.sum(y * fp.deposit)]) / fp.deposit.sum(), fp.deposit.sum()
 
     (c0, total0) = centre(np.zeros(2))
@@ -261,19 +257,19 @@ def test_folded_columns_match_stamping_bristle_by_bristle(flat, size, bend):
     colours = np.clip(np.array([0.5, 0.4, 0.3]) + rng.uniform(-0.08, 0.08, (len(tip), 3)), 0, 1).astype(np.float32)
     t = np.linspace(0, 1, 6)
     control = np.stack([40 + 120 * t, 60 + bend * 4 * t * (1 - t)], axis=1)
-    samples, _ = resample_by_length(catmull_rom(control)[0], 1.0)
-    angles = tangent_angles(samples, 0.0)
+    samples, _ = resampled(control)
+    angles = tangent_angles(samples, np.array([0, len(samples)]), np.zeros(1))
     shape = (120, 200)
     canvases = []
     for fold in (False, True):
         canvas = Canvas.blank(shape, (0.9, 0.9, 0.9))
         if fold:
-            fp = track_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, shape,
-                                 rows=tip.length)
+            fp = engine_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, shape,
+                                  rows=tip.length)
         else:
             fp = stroke_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, shape,
                                   rows=tip.length)
-        canvas.apply(fp, "over", 0.5)
+        canvas.lay(fp, "over", 0.5)
         canvases.append(canvas)
     stamped, folded = canvases
     colour = np.abs(stamped.colour - folded.colour)
@@ -300,18 +296,18 @@ def test_folded_strokes_with_lifting_ends_match_stamping_on_random_strokes(flat,
     t = np.linspace(0, 1, 6)
     bend = float(rng.uniform(-0.3, 0.3)) * length
     control = np.stack([30 + length * t, 80 + bend * 4 * t * (1 - t)], axis=1)
-    samples, arc = resample_by_length(catmull_rom(control)[0], 1.0)
-    angles = tangent_angles(samples, 0.0)
-    contact, relief = end_profile(arc, size, float(rng.uniform(0.2, 0.8)), 0.15)
+    samples, arc = resampled(control)
+    angles = tangent_angles(samples, np.array([0, len(samples)]), np.zeros(1))
+    contact, relief = end_profile(arc, np.full(len(arc), arc[-1]), size, float(rng.uniform(0.2, 0.8)), 0.15)
     ridge = ridge_profile(tip.across, tip.radius, 0.25)
     rows = max(1.0, tip.length)
     shape = (160, 40 + int(length) + 2 * size)
     canvases = []
-    for footprint in (stroke_footprint, track_footprint):
+    for footprint in (stroke_footprint, engine_footprint):
         canvas = Canvas.blank(shape, (0.9, 0.9, 0.9))
         fp = footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, shape, contact=contact,
                        stamp_relief=relief, bristle_relief=ridge, rows=rows)
-        canvas.apply(fp, "over", 0.5)
+        canvas.lay(fp, "over", 0.5)
         canvases.append(canvas)
     stamped, folded = canvases
     painted = stamped.coverage > 0.05
@@ -321,30 +317,55 @@ def test_folded_strokes_with_lifting_ends_match_stamping_on_random_strokes(flat,
     assert abs(folded.height.sum() - stamped.height.sum()) < 0.2 * stamped.height.sum()
 
 
+def exact_run(grid, colours, first, last, touch, passes):
+    """Eq. 4 over rows first .. last of one column set, front row first, written as a loop: (colour (W, 3), T (W,), laid (W,))."""
+    from core.strokes.folding import MAX_INTENSITY
+
+    paint = np.zeros((grid.shape[1], 3))
+    keep = np.ones(grid.shape[1])
+    laid = np.zeros(grid.shape[1])
+    for r in range(first, last + 1):
+        strength = np.minimum(touch * grid[r].astype(np.float64), MAX_INTENSITY)
+        a = 1 - (1 - strength) ** passes
+        paint = a[:, None] * colours[r] + (1 - a[:, None]) * paint
+        keep *= 1 - a
+        laid += strength
+    alpha = 1 - keep
+    return paint / np.maximum(alpha, 1e-30)[:, None], keep, laid
+
+
 @pytest.mark.parametrize("rows", [1, 3, 8, 20])
-def test_fold_tables_interpolate_within_a_level_of_the_exact_fold(rows):
-    # every kind of run (whole brush, entering, leaving, an inner run) at random contacts
-    from core.strokes.folding import LEVELS_PER_CONTACT, fold_rows, track_folds
+def test_row_tables_and_run_colours_match_the_fold_written_out(rows):
+    # every kind of run (whole brush, entering, leaving, an inner run) at contacts between the table's levels
+    from core.strokes.folding import LEVELS_PER_CONTACT, RowTables, run_colours
 
     rng = np.random.default_rng(rows)
-    width = 7
-    grid = rng.uniform(0.05, 1.0, (rows, width)).astype(np.float32)
+    width, passes = 7, 1.5
+    grid = rng.uniform(0.05, 0.95, (rows, width)).astype(np.float32)
     grid[rng.uniform(size=grid.shape) < 0.1] = 0.0                    # empty lattice cells
-    grid_colour = rng.uniform(0.0, 1.0, (rows, width, 3)).astype(np.float32)
-    n_samples = 40 if rows < 20 else 12                                 # 12 < 20 rows: inner runs too
-    k = np.arange(n_samples + rows - 1)
-    first = np.maximum(0, rows - 1 - k)
-    last = np.minimum(rows - 1, n_samples + rows - 2 - k)
-    touch = np.where(rng.uniform(size=len(k)) < 0.3, 1.0, rng.uniform(0.09, 1.0, len(k)))
-    colour, log_total, laid = track_folds(first, last, touch, grid, grid_colour, 1.5)
-    present = (np.arange(rows)[None, :] >= first[:, None]) & (np.arange(rows)[None, :] <= last[:, None])
-    paint, exact_log, exact_laid = fold_rows((touch[:, None] * present).astype(np.float32), grid, grid_colour, 1.5)
-    alpha = -np.expm1(exact_log)
-    exact_colour = paint / np.maximum(alpha, 1e-30)[None]                      # (3, K, W) planes
-    np.testing.assert_allclose(laid, exact_laid, rtol=1e-4, atol=1e-6)          # linear in the contact: exact
-    step = 1.0 / LEVELS_PER_CONTACT
-    assert np.abs(np.expm1(log_total) - np.expm1(exact_log)).max() < 2 * step ** 2 * 4
-    seen = alpha > 1e-3
-    assert np.abs(colour - exact_colour)[:, seen].max() < 1.0 / 255
-    full = (touch == 1.0)[:, None] & seen                               # full contact: the exact fold
-    np.testing.assert_allclose(colour[:, full], exact_colour[:, full], atol=2e-5)
+    colours = rng.uniform(0.0, 1.0, (2, rows, width, 3)).astype(np.float32)     # two strokes
+    runs = [(0, rows - 1)] + [(f, rows - 1) for f in range(1, rows)] + [(0, l) for l in range(rows - 1)]
+    runs += [(f, l) for f in range(1, rows) for l in range(f, rows - 1)]
+    first = np.array([f for f, _ in runs] * 2)
+    last = np.array([l for _, l in runs] * 2)
+    stroke = np.repeat([0, 1], len(runs))
+    levels = rng.integers(2, LEVELS_PER_CONTACT, len(first))
+    touch = np.where(rng.uniform(size=len(first)) < 0.3, 1.0, (levels + rng.uniform(0.2, 0.8, len(first))) / LEVELS_PER_CONTACT)
+    log_total, laid = RowTables.of(grid, passes).runs(first, last, touch)
+    colour = run_colours(grid, colours, passes, stroke, first, last)
+    worst = 0.0
+    for i in range(len(first)):
+        exact_colour, keep, exact_laid = exact_run(grid, colours[stroke[i]], first[i], last[i], touch[i], passes)
+        np.testing.assert_allclose(laid[i], exact_laid, rtol=1e-5, atol=1e-6)           # linear in the contact
+        error = np.abs(np.exp(log_total[i]) - keep).max()
+        assert error < 2 * (1.0 / LEVELS_PER_CONTACT) ** 2 * passes * rows           # a level's curvature
+        worst = max(worst, error)
+        if touch[i] == 1.0:
+            np.testing.assert_allclose(np.exp(log_total[i]), keep, rtol=1e-5, atol=1e-6)
+            seen = keep < 1 - 1e-3
+            np.testing.assert_allclose(colour[i][seen], exact_colour[seen], atol=1e-5)
+        else:                                       # the colour is the run's at full contact
+            full_colour, _, _ = exact_run(grid, colours[stroke[i]], first[i], last[i], 1.0, passes)
+            seen = keep < 1 - 1e-3
+            np.testing.assert_allclose(colour[i][seen], full_colour[seen], atol=1e-5)
+    assert worst > 1e-6 or rows == 1 and grid.max() == 0            # between levels the tables interpolate

@@ -34,19 +34,7 @@ def test_block_levels_sample_a_linear_ramp_back(sigma):
     np.testing.assert_allclose(level.sample(x, y), expected, atol=2e-4)
 
 
-@pytest.mark.parametrize("sigma", [0.0, 1.0, 9.0, 40.0])
-def test_one_point_is_sampled_as_many(sigma):
-    rng = np.random.default_rng(int(sigma))
-    level = smooth(rng.random((57, 83, 3)).astype(np.float32), sigma)
-    x = np.concatenate([rng.integers(-5, 90, 200), rng.uniform(-5, 90, 200)])
-    y = np.concatenate([rng.integers(-5, 62, 200), rng.uniform(-5, 62, 200)])
-    many = level.sample(x.astype(np.float32), y.astype(np.float32))
-    one = np.array([level.at(float(a), float(b)) for a, b in zip(np.float32(x), np.float32(y), strict=True)])
-    assert one.dtype == np.float32
-    np.testing.assert_array_equal(one, many)
-
-
 def test_a_one_pixel_image_is_that_pixel_everywhere():
     level = smooth(np.array([[[0.2, 0.4, 0.6]]], np.float32), 0.0)
-    for x, y in ((0.0, 0.0), (3.5, -2.0)):
-        np.testing.assert_array_equal(level.at(x, y), np.array([0.2, 0.4, 0.6], np.float32))
+    values = level.sample(np.array([0.0, 3.5], np.float32), np.array([0.0, -2.0], np.float32))
+    np.testing.assert_array_equal(values, np.array([[0.2, 0.4, 0.6]] * 2, np.float32))

@@ -12,6 +12,8 @@ import pathlib
 import numpy as np
 import OpenImageIO as oiio
 import pytest
+from stamp_oracle import box_footprint, stroke_footprint
+from stamp_oracle import paint_one as engine_one
 
 from core.errors import PaintReliefError, ParameterError
 from core.files.io import read_image
@@ -19,10 +21,9 @@ from core.methods import paint
 from core.params import CANVAS_COLOUR, Params
 from core.strokes.brush import BrushTip, brush_tip, load_brush
 from core.strokes.canvas import Canvas
-from core.strokes.compositing import stroke_footprint
-from core.strokes.layout import choose_anchor
+from core.strokes.layout import choose_anchors
 from core.strokes.smoothing import smooth
-from core.strokes.stroke import ColourSources, colour_sources, paint_stroke
+from core.strokes.stroke import ColourSources, colour_sources
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 C0 = np.array(CANVAS_COLOUR, dtype=np.float64)
@@ -86,7 +87,7 @@ def test_eq4_single_stamp_by_hand():
     canvas_rgb = np.array([0.5, 0.25, 0.75])
     canvas = Canvas.blank((9, 10), canvas_rgb)
     fp = stroke_footprint(samples, angles, along, across, inten, colours, (9, 10))
-    canvas.apply(fp, "over", 0.5)
+    canvas.lay(fp, "over", 0.5)
 
     expected = {  # (x, y): I * C_b + (1 - I) * C_canvas, by hand
         (5, 5): (0.8 * 1.0 + 0.2 * 0.5, 0.8 * 0.0 + 0.2 * 0.25, 0.8 * 0.0 + 0.2 * 0.75),
@@ -125,7 +126,7 @@ def test_eq4_two_stamps_fold_later_on_top():
     colours = np.array([a, b], np.float32)
     canvas = Canvas.blank((11, 11), C0)
     fp = stroke_footprint(samples, angles, along, across, inten, colours, (11, 11))
-    canvas.apply(fp, "over", 0.5)
+    canvas.lay(fp, "over", 0.5)
 
     first = 0.6 * a + 0.4 * C0                     # stamp 0
     later_on_top = 0.5 * b + 0.5 * first           # stamp 1 over it
@@ -137,21 +138,20 @@ def test_eq4_two_stamps_fold_later_on_top():
     np.testing.assert_allclose(canvas.colour[5, 6], 0.6 * a + 0.4 * C0, atol=1e-5)   # stamp 1, bristle A
     assert canvas.coverage[5, 5] == pytest.approx(1 - 0.4 * 0.5, abs=1e-5)
     # deposit: the contact of every bristle that passed over the pixel (one row)
-    assert fp.deposit[5 - fp.top, 5 - fp.left] == pytest.approx(0.6 + 0.5, abs=1e-5)
+    assert fp.deposit[fp.pixel == 5 * 11 + 5][0] == pytest.approx(0.6 + 0.5, abs=1e-5)
 
 
 def test_relief_rule_by_hand():
     # a hand-made footprint over old paint H = 0.4, A = 0.5: o = (1 - T) f, f = min(1, deposit / deposit_90);
     # over: H + o h - o f H; accumulate (b = 0.5): H + o h - o f (1 - b) H
-    from core.strokes.compositing import Footprint
-    fp = Footprint(0, 0, np.full((2, 5), 0.1, np.float32), np.zeros((2, 5, 3), np.float32),
-                   np.array([1, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32).reshape(2, 5),
-                   np.array([1.2, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32).reshape(2, 5))
+    fp = box_footprint(0, 0, np.full((2, 5), 0.1, np.float32), np.zeros((2, 5, 3), np.float32),
+                       np.array([1, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32).reshape(2, 5),
+                       np.array([1.2, 1, 1, 1, 1, 1, 1, 1, 1, 0.25], np.float32).reshape(2, 5), 5)
     for mode, loss in (("over", 1.0), ("accumulate", 0.5)):
         canvas = Canvas.blank((2, 5), C0)
         canvas.height[...] = 0.4
         canvas.opacity[...] = 0.5
-        canvas.apply(fp, mode, 0.5)
+        canvas.lay(fp, mode, 0.5)
         h = canvas.height.reshape(-1)
         assert h[0] == pytest.approx(0.4 + 0.9 * 1.2 - 0.9 * loss * 0.4, abs=1e-6)       # f = 1, a ridge
         assert h[5] == pytest.approx(0.4 + 0.9 * 1.0 - 0.9 * loss * 0.4, abs=1e-6)
@@ -173,7 +173,7 @@ def paint_one(reference, orientation, anchor, size, brush_map, params=None, canv
     canvas = canvas or Canvas.blank(reference.shape[:2], params.canvas_colour)
     tip = brush_tip(brush_map, size, params.transparency)
     sources = colour_sources(reference, [size], params)[size]
-    stroke = paint_stroke(canvas, sources, orientation, anchor, size, 0, tip, np.random.default_rng(seed), params)
+    stroke = engine_one(canvas, sources, orientation, anchor, size, tip, params, seed)
     return canvas, stroke, tip
 
 
@@ -191,7 +191,7 @@ def test_stroke_streaks_and_coverage(flat):
     params = Params(bristle_deviation=10.0)
     canvas = Canvas.blank((h, w), params.canvas_colour)
     tip = brush_tip(flat, size, params.transparency)
-    stroke = paint_stroke(canvas, exact_sources(ref), ori, (100, 40), size, 0, tip, np.random.default_rng(0), params)
+    stroke = engine_one(canvas, exact_sources(ref), ori, (100, 40), size, tip, params)
     # the stroke runs horizontally, well beyond one brush length
     assert stroke.path[:, 0].min() < 100 - size and stroke.path[:, 0].max() > 100 + size
     np.testing.assert_allclose(stroke.path[:, 1], 40, atol=1e-3)
@@ -226,7 +226,7 @@ def test_single_stamp_stroke_eq5_and_coverage_by_hand():
     canvas = Canvas.blank((h, w), C0)
     ax, ay = 9, 8
     sources = exact_sources(ref)
-    stroke = paint_stroke(canvas, sources, ori, (ax, ay), 3, 0, tip, np.random.default_rng(0), params)
+    stroke = engine_one(canvas, sources, ori, (ax, ay), 3, tip, params)
     assert stroke.anchor == (ax, ay)
     pixels = [(ax, ay, 0.7), (ax, ay + 2, 0.5), (ax - 3, ay, 0.25)]
     anchor_rgb = ref[ay, ax].astype(np.float64)
@@ -238,7 +238,7 @@ def test_single_stamp_stroke_eq5_and_coverage_by_hand():
         assert canvas.coverage[y, x] == pytest.approx(a, abs=1e-5)
     assert np.count_nonzero(canvas.coverage) == 3
     # the same stroke again: coverage = 1 - (1 - a)^2
-    paint_stroke(canvas, sources, ori, (ax, ay), 3, 0, tip, np.random.default_rng(0), params)
+    engine_one(canvas, sources, ori, (ax, ay), 3, tip, params)
     for x, y, i in pixels:
         assert canvas.coverage[y, x] == pytest.approx(1 - (1 - i) ** (2 * passes), abs=1e-5)
 
@@ -348,8 +348,11 @@ def layout_arrays():
 GRID = (2, 1, 9, 7)  # x0, y0, x1, y1 (half-open)
 
 
-def RNG():
-    return np.random.default_rng(0)
+def choose_anchor(grid, coverage, colour, reference, tc, td, tie=0.0):
+    """The anchor (x, y) ``choose_anchors`` gives one grid, or None."""
+    anchors, chosen = choose_anchors(np.array([grid]), coverage, colour, smooth(reference, 0.0), tc, td,
+                                     np.array([tie]))
+    return tuple(anchors[0].tolist()) if chosen[0] else None
 
 
 def test_choose_anchor_prefers_least_covered():
@@ -357,7 +360,7 @@ def test_choose_anchor_prefers_least_covered():
     coverage[3, 5] = 0.3                        # p_min at x=5, y=3
     coverage[5, 7] = 0.45                       # also below T_c, but not the least
     colour[4, 6] = (1.0, 0.0, 0.0)              # large colour difference elsewhere
-    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1, RNG()) == (5, 3)
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) == (5, 3)
 
 
 def test_choose_anchor_p_max_when_covered():
@@ -365,26 +368,43 @@ def test_choose_anchor_p_max_when_covered():
     coverage[3, 5] = 0.5                        # min coverage == T_c: satisfied (not < T_c)
     colour[4, 6] = (0.5, 0.5, 0.8)              # distance 0.3
     colour[2, 3] = (0.5, 0.7, 0.5)              # distance 0.2
-    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1, RNG()) == (6, 4)
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) == (6, 4)
 
 
-def test_choose_anchor_breaks_ties_by_the_generator():
-    # a grid all at coverage 0: every pixel ties; the seeded generator picks, not raster order
+def test_choose_anchor_breaks_ties_by_the_visit_draw():
+    # a grid all at coverage 0: every pixel ties; tied pixel floor(u k) of k in row-major order
     coverage = np.zeros((40, 40), np.float32)
     colour = reference = np.full((40, 40, 3), 0.5, np.float32)
     grid = (0, 0, 40, 40)
-    picks = {choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, np.random.default_rng(s)) for s in range(20)}
-    assert len(picks) >= 15 and (0, 0) not in picks or len(picks) >= 19
-    assert choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, np.random.default_rng(4)) == \
-        choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, np.random.default_rng(4))
+    assert choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, 0.0) == (0, 0)
+    assert choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, 0.5) == (0, 20)
+    assert choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, 0.999999) == (39, 39)
+    assert choose_anchor(grid, coverage, colour, reference, 0.5, 0.1, 0.5 + 7.5 / 1600) == (7, 20)
 
 
 def test_choose_anchor_none_when_satisfied():
     coverage, colour, reference = layout_arrays()
     colour[4, 6] = (0.55, 0.55, 0.5)            # distance 0.0707 < 0.1
-    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1, RNG()) is None
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) is None
     colour[4, 6] = (0.65, 0.5, 0.5)             # 0.15 > 0.1
-    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1, RNG()) == (6, 4)
+    assert choose_anchor(GRID, coverage, colour, reference, 0.5, 0.1) == (6, 4)
+
+
+def test_choose_anchors_of_many_grids_equal_each_grid_alone():
+    # grids of all kinds in one call (bare, covered and missing colour, satisfied) give what each gives alone
+    rng = np.random.default_rng(7)
+    coverage = rng.choice([0.0, 0.2, 0.6, 0.9], size=(30, 40)).astype(np.float32)
+    colour = rng.uniform(0, 1, (30, 40, 3)).astype(np.float32)
+    reference = np.clip(colour + rng.normal(0, 0.06, colour.shape), 0, 1).astype(np.float32)
+    coverage[0:10, 0:10] = 0.7                                  # covered: p_max decides
+    coverage[10:20, 20:30] = 0.8
+    reference[10:20, 20:30] = colour[10:20, 20:30]              # covered and satisfied: no stroke
+    grids = np.array([[x, y, x + 10, y + 10] for y in (0, 10, 20) for x in (0, 10, 20, 30)])
+    ties = rng.uniform(size=len(grids))
+    anchors, chosen = choose_anchors(grids, coverage, colour, smooth(reference, 0.0), 0.5, 0.1, ties)
+    alone = [choose_anchor(tuple(g), coverage, colour, reference, 0.5, 0.1, u) for g, u in zip(grids, ties, strict=True)]
+    assert [tuple(a) if c else None for a, c in zip(anchors.tolist(), chosen, strict=True)] == alone
+    assert alone[6] is None and alone[0] is not None
 
 
 # ---------------------------------------------------------------------------
@@ -399,14 +419,13 @@ def test_height_modes_over_and_accumulate(flat):
     fp = stroke_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, (40, 80),
                           rows=tip.length)
     over = Canvas.blank((40, 80), C0)
-    over.apply(fp, "over", 0.5)
+    over.lay(fp, "over", 0.5)
     h1 = over.height.astype(np.float64).copy()
-    over.apply(fp, "over", 0.5)
-    touched = fp.touched
+    over.lay(fp, "over", 0.5)
+    touched = fp.deposit > 0
     full = touched & (fp.deposit >= np.percentile(fp.deposit[touched], 90))   # f = 1
     assert full.sum() > 50
-    rows, columns = np.nonzero(full)
-    where = (rows + fp.top, columns + fp.left)
+    where = np.divmod(fp.pixel[full], 80)
     o = 1 - fp.transmittance[full].astype(np.float64)
     h = fp.height[full].astype(np.float64)
     np.testing.assert_allclose(h1[where], o * h, rtol=1e-5)                    # bare canvas: H = o h
@@ -415,7 +434,7 @@ def test_height_modes_over_and_accumulate(flat):
     acc = Canvas.blank((40, 80), C0)
     heights = []
     for _ in range(40):
-        acc.apply(fp, "accumulate", 0.5)
+        acc.lay(fp, "accumulate", 0.5)
         heights.append(acc.height[where].astype(np.float64).copy())
     np.testing.assert_allclose(heights[0], h1[where], rtol=1e-5)               # the first coat is the stroke
     assert np.all(heights[1] > heights[0])                                     # paint builds up ...
@@ -545,17 +564,18 @@ def test_bundled_samples_psnr(name):
     assert math.isfinite(painting.statistics["psnr_db"])
 
 
-def test_grids_are_visited_largest_first():
-    from core.strokes.layout import grid_order
+def test_grids_are_visited_largest_first_one_run_per_size():
+    from core.strokes.layout import painting_order, size_runs
 
-    grids = np.array([[0, 0, 2, 2], [2, 0, 10, 8], [0, 2, 2, 8], [10, 0, 12, 2]], dtype=np.int32)
-    # areas 4, 64, 12, 4: largest first, ties in partition order
-    assert grid_order(grids).tolist() == [1, 2, 0, 3]
+    grids = np.array([[0, 0, 2, 2], [2, 0, 10, 8], [0, 2, 2, 8], [10, 0, 12, 2], [12, 0, 15, 2]], dtype=np.int32)
+    sizes = np.array([4, 16, 8, 4, 8])
+    # by stroke size, then area (4, 64, 12, 4, 6), ties in partition order
+    order = painting_order(grids, sizes)
+    assert order.tolist() == [1, 2, 4, 0, 3]
+    assert size_runs(sizes[order]) == [(16, 0, 1), (8, 1, 3), (4, 3, 5)]
 
 
 def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
-    from core.strokes.compositing import stroke_footprint
-
     sample = np.array([[5.0, 5.0]])
     angle = np.array([0.0])
     along, across = np.array([0.0], np.float32), np.array([0.0], np.float32)
@@ -563,8 +583,7 @@ def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
     colour = np.array([[0.2, 0.4, 0.8]], np.float32)
     once = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10))
     thrice = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10), repeat=3)
-    assert np.array_equal(once.touched, thrice.touched) and once.touched.sum() == 1
-    hit = thrice.touched
-    np.testing.assert_allclose(thrice.transmittance[hit], 0.4 ** 3, rtol=1e-6)
-    np.testing.assert_allclose(thrice.paint[hit], colour * (1 - 0.4 ** 3), rtol=1e-5)
+    assert np.array_equal(once.pixel, thrice.pixel) and len(once.pixel) == 1
+    np.testing.assert_allclose(thrice.transmittance, 0.4 ** 3, rtol=1e-6)
+    np.testing.assert_allclose(thrice.paint, colour * (1 - 0.4 ** 3), rtol=1e-5)
     np.testing.assert_allclose(thrice.deposit, 3 * once.deposit)  # three coats of paint

@@ -17,18 +17,22 @@ from ..results import Analysis, Painting
 from ..strokes.brush import brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import detail_anchors, size_map
-from ..strokes.layout import choose_anchor, grid_order, hertzmann_anchors
-from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources, paint_stroke
+from ..strokes.layout import choose_anchors, hertzmann_anchors, painting_order, size_runs
+from ..strokes.rounds import paint_round
+from ..strokes.streams import visit_uniforms
+from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources
 from ..version import __version__
 from .styles import get_style
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-          mask: Optional[np.ndarray] = None) -> Painting:
+          mask: Optional[np.ndarray] = None, one_by_one: bool = False) -> Painting:
     """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke.
 
     progress(fraction, message) is called now and then; cancel() is polled
-    between strokes and raises Cancelled when it returns True.
+    between rounds and raises Cancelled when it returns True. ``one_by_one``
+    plans and lays each stroke alone (``core.strokes.rounds``' reference,
+    the same bytes, slower).
     """
     params.validate()
     image = check_image(image)
@@ -43,12 +47,13 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     sources = colour_sources(analysis.reference, analysis.sizes, params)
     layers_stage = stage.sub(0.15, 0.95 if params.detail_pass else 1.0)
     if params.layout == "hertzmann98":
-        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage)
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage,
+                                                     one_by_one)
     else:
-        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage)
+        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage, one_by_one)
     if params.detail_pass:
         details = paint_details(canvas, image, analysis, sources, params, len(per_layer),
-                                stage.sub(0.95, 1.0))
+                                stage.sub(0.95, 1.0), one_by_one)
         strokes += details
         per_layer.append(len(details))
     seconds = dict(analysis.seconds)
@@ -78,102 +83,92 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
 
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
-                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
+                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage,
+                  one_by_one: bool = False) -> List[Stroke]:
     """The detail pass: one dab of the smallest brush on each point highlight the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
     reference: an edge-preserving denoise halves the contrast of features a
     pixel or two wide, which are exactly the lights and glints this pass is
-    for. Each anchor is checked again just before its dab, since an earlier
-    dab may already have painted it. Dabs are laid with the round brush,
-    whatever the layers' brush: a flat brush's dab is a dash, and a star is a dot.
+    for. The dabs are one more round, planned from the canvas after the
+    layers (anchors at least 2 smallest + 1 px apart, so no dab paints
+    another's anchor). Dabs are laid with the round brush, whatever the
+    layers' brush: a flat brush's dab is a dash, and a star is a dot.
     """
     smallest = min(analysis.sizes)
     anchors = detail_anchors(image, canvas.colour,
                              size_map(analysis.grids, analysis.grid_sizes, canvas.height.shape),
                              {s: sources[s].edges for s in analysis.sizes}, smallest, params.difference_threshold)
-    rng = np.random.default_rng([params.seed, layer])
-    exact = detail_sources(image)
+    stage.report(0.0, f"Details: {len(anchors)} strokes")
     dab = dataclasses.replace(params, min_length=0, max_length=0)   # the anchor alone: a dab, no path
     tip = brush_tip(load_brush("round"), smallest, params.transparency)
-    limit = params.difference_threshold ** 2
-    strokes: List[Stroke] = []
-    for done, (x, y) in enumerate(anchors.tolist()):
-        miss = image[y, x] - canvas.colour[y, x]
-        if float(miss @ miss) > limit:
-            strokes.append(paint_stroke(canvas, exact, analysis.orientation, (x, y), smallest, layer, tip, rng,
-                                        dab))
-        stage.check()
-        if done % 200 == 0:
-            stage.report(done / max(1, len(anchors)), f"Details: {len(strokes)} strokes")
+    draws = visit_uniforms(params.seed, layer, np.arange(len(anchors)), 5)[:, 1:]
+    strokes = paint_round(canvas, detail_sources(image), analysis.orientation, anchors, smallest, layer, tip, draws,
+                          dab, one_by_one)
+    stage.check()
     return strokes
 
 
 def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                 params: Params, stage: Stage) -> tuple:
-    """Run every layer over every grid (largest first); returns (strokes, strokes per layer)."""
-    rng = np.random.default_rng(params.seed)
-    order = grid_order(analysis.grids)
-    grids = analysis.grids[order].tolist()
-    sizes = analysis.grid_sizes[order].tolist()
+                 params: Params, stage: Stage, one_by_one: bool = False) -> tuple:
+    """Run every layer over every grid, largest first, one round per stroke size (ALGORITHM §5, "Speed").
+
+    Within a layer the grids of one size are a run (``painting_order``): their
+    anchors are chosen and their strokes planned from the canvas as it stood
+    when the run began, then laid in order. Grid i of layer l draws its
+    random numbers from stream (seed, l, i). Returns (strokes, strokes per layer).
+    """
+    order = painting_order(analysis.grids, analysis.grid_sizes)
+    grids = analysis.grids[order]
+    runs = size_runs(analysis.grid_sizes[order])
     strokes: List[Stroke] = []
     per_layer: List[int] = []
-    total = params.layers * len(grids)
-    done = 0
-    last_report = time.monotonic()
     for layer in range(params.layers):
+        draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
         count = 0
-        for grid, size in zip(grids, sizes, strict=True):
-            done += 1
-            anchor = choose_anchor(grid, canvas.opacity, canvas.colour, sources[size].edges,
-                                   params.coverage_threshold, params.difference_threshold, rng)
-            if anchor is not None:
-                strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size,
-                                            layer, tips[size], rng, params))
-                count += 1
+        for done, (size, first, stop) in enumerate(runs):
+            anchors, chosen = choose_anchors(grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges,
+                                             params.coverage_threshold, params.difference_threshold,
+                                             draws[first:stop, 0])
+            strokes += paint_round(canvas, sources[size], analysis.orientation, anchors[chosen], size, layer,
+                                   tips[size], draws[first:stop][chosen, 1:], params, one_by_one)
+            count += int(chosen.sum())
             stage.check()
-            if time.monotonic() - last_report > 0.1:
-                last_report = time.monotonic()
-                stage.report(done / total, f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
+            stage.report((layer + (done + 1) / len(runs)) / params.layers,
+                         f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
         per_layer.append(count)
     return strokes, per_layer
 
 
 def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                             params: Params, stage: Stage) -> tuple:
+                             params: Params, stage: Stage, one_by_one: bool = False) -> tuple:
     """The Fig. 8b ablation: the paper's strokes on Hertzmann 1998's layered layout.
 
     One layer per standard stroke size (largest first; params.layers is not
-    used). A layer tiles the canvas with cells of max(1, int(f_g * size / 2))
-    px, finds the cells whose mean error |reference - canvas| (Euclidean RGB
-    on 0-255, +inf where the coverage is 0) exceeds the style's T, anchors a
-    stroke at each such cell's max-error pixel, and paints those strokes in a
-    random (seeded) order with the paper's brush, colours and relief against
-    the paper's bilateral reference and orientation field. Anchors come from
-    the canvas at the start of the layer; each stroke's path is planned when
-    it is painted. Returns (strokes, strokes per layer).
+    used), and so one round per layer, planned from the canvas at the
+    layer's start as Hertzmann 1998 does. A layer tiles the canvas with
+    cells of max(1, int(f_g * size / 2)) px, finds the cells whose mean
+    error |reference - canvas| (Euclidean RGB on 0-255, +inf where the
+    coverage is 0) exceeds the style's T, anchors a stroke at each such
+    cell's max-error pixel, and lays those strokes in a random (seeded)
+    order with the paper's brush, colours and relief against the paper's
+    bilateral reference and orientation field. Returns (strokes, strokes per layer).
     """
     style = get_style(params.style)
-    rng = np.random.default_rng(params.seed)
     reference = analysis.reference
     strokes: List[Stroke] = []
     per_layer: List[int] = []
-    last_report = time.monotonic()
     sizes = list(analysis.sizes)
     for layer, size in enumerate(sizes):
         diff = reference - canvas.colour
         error = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff, dtype=np.float64)) * 255.0
         error[canvas.coverage <= 0.0] = np.inf
         anchors = hertzmann_anchors(error, max(1, int(style.grid * size / 2.0)), style.threshold)
-        order = rng.permutation(len(anchors))
-        for done, i in enumerate(order.tolist()):
-            anchor = (int(anchors[i, 0]), int(anchors[i, 1]))
-            strokes.append(paint_stroke(canvas, sources[size], analysis.orientation, anchor, size, layer,
-                                        tips[size], rng, params))
-            stage.check()
-            if time.monotonic() - last_report > 0.1:
-                last_report = time.monotonic()
-                stage.report((layer + done / max(1, len(order))) / len(sizes),
-                             f"Layer {layer + 1}/{len(sizes)}: {len(strokes)} strokes")
+        order = np.random.default_rng([params.seed, layer]).permutation(len(anchors))
+        draws = visit_uniforms(params.seed, layer, order, 5)[:, 1:]
+        strokes += paint_round(canvas, sources[size], analysis.orientation, anchors[order], size, layer, tips[size],
+                               draws, params, one_by_one)
+        stage.check()
+        stage.report((layer + 1) / len(sizes), f"Layer {layer + 1}/{len(sizes)}: {len(strokes)} strokes")
         per_layer.append(len(order))
     return strokes, per_layer

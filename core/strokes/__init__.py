@@ -1,17 +1,19 @@
-"""Strokes: one stroke from anchor to canvas (ALGORITHM §3, §5, §6).
+"""Strokes: from anchors to canvas, a round at a time (ALGORITHM §3, §5, §6).
 
 Brushes and their tips (``brush``), where anchors go (``layout``, and
-``details`` for the detail pass), a stroke's path (``path``, ``planning``,
-``smoothing``), its bristle colours and relief (``stroke``), and laying it
-on the ``canvas`` (``compositing``). ``paint_stroke`` hands the methods a
-``Stroke`` record and a changed ``Canvas``.
+``details`` for the detail pass), strokes' paths (``path``, ``planning``,
+``smoothing``), their bristle colours and relief (``stroke``), what they lay
+(``folding``, ``compositing``) and laying it on the ``canvas``, each
+stroke's random numbers (``streams``). ``paint_round`` plans and lays a
+round of strokes and hands the methods their ``Stroke`` records.
 """
 
 from .brush import BrushTip, brush_tip, load_brush, tip_cache
 from .canvas import Canvas
-from .layout import choose_anchor, grid_order, hertzmann_anchors
-from .stroke import ColourSources, Stroke, colour_sources, detail_sources, paint_stroke, solid_stroke
+from .layout import choose_anchors, hertzmann_anchors, painting_order
+from .rounds import paint_round
+from .stroke import ColourSources, Stroke, colour_sources, detail_sources, solid_stroke
 
-__all__ = ["BrushTip", "Canvas", "ColourSources", "Stroke", "brush_tip", "choose_anchor", "colour_sources",
-           "detail_sources", "grid_order", "hertzmann_anchors", "load_brush", "paint_stroke", "solid_stroke",
+__all__ = ["BrushTip", "Canvas", "ColourSources", "Stroke", "brush_tip", "choose_anchors", "colour_sources",
+           "detail_sources", "hertzmann_anchors", "load_brush", "paint_round", "painting_order", "solid_stroke",
            "tip_cache"]

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compositing import Footprint
+from .compositing import Footprints
 
 
 @dataclass
@@ -33,71 +33,102 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def apply(self, footprint: Footprint, height_mode: str, build: float) -> None:
-        """Lay one stroke's footprint on the canvas (ALGORITHM §6).
+    def lay(self, footprints: Footprints, height_mode: str, build: float) -> None:
+        """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
-        Colour by Eq. 4 (folded); coverage as the same stroke painted in white.
-        The stroke's opacity o = a f, with a = 1 - transmittance its colour
-        alpha and f = min(1, deposit / deposit_90) how fully its paint covers
-        (deposit_90 the stroke's 90th-percentile deposit), so the opacity
-        follows the bristles' real footprint and fades with them at the edges
-        and ends. Height, with h the stroke's height:
-        'over'        H <- H + o h - o f H          (= o h + (1 - o) H where f = 1),
-        'accumulate'  H <- H + o h - o f (1 - b) H  (= o (h + b H) + (1 - o) H where f = 1),
-        b = ``build`` in [0, 1). Where the stroke covers fully this is the
-        paper's weighted sum (or bounded build-up: H tends to h / (1 - b)
-        under repeated strokes); at its feathered edges and ends, where f < 1,
-        the thin paint lies on the old instead of replacing it, so a stroke
-        never digs a groove into the paint beneath. Opacity A = o + (1 - o) A.
+        The k-th stroke to touch a pixel in the run is laid on it in the k-th
+        pass, every pixel of a pass at once: each pixel sees its strokes in
+        the run's order, so the canvas is exactly what laying the strokes one
+        by one gives (``lay_one``). The arithmetic is ``composite``'s.
         """
-        keep = footprint.transmittance
-        if keep.size == 0:
+        pixel = footprints.pixel
+        if pixel.size == 0:
             return
-        top, left = footprint.top, footprint.left
-        box = (slice(top, top + keep.shape[0]), slice(left, left + keep.shape[1]))
-        colour = self.colour[box]
-        for ch in range(3):                      # a plane at a time: a broadcast over 3 channels is slow
-            colour[..., ch] *= keep
-        colour += footprint.paint
-        alpha = 1.0 - keep
-        scratch = np.subtract(1.0, self.coverage[box])
-        scratch *= alpha
-        self.coverage[box] += scratch
-        deposit = footprint.deposit
-        full = percentile_90(deposit)
-        if full <= 0:
+        owner = np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts))
+        by_pixel = np.argsort(pixel, kind="stable")
+        ordered = pixel[by_pixel]
+        new = np.ones(len(ordered), bool)
+        np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
+        position = np.arange(len(ordered))
+        rank = position - np.maximum.accumulate(np.where(new, position, 0))
+        by_rank = by_pixel[np.argsort(rank, kind="stable")]
+        passes = np.bincount(rank)
+        inverse = inverse_full(footprints.full)
+        colour, coverage = self.colour.reshape(-1, 3), self.coverage.ravel()
+        height, opacity = self.height.ravel(), self.opacity.ravel()
+        done = 0
+        for size in passes.tolist():
+            entry = by_rank[done:done + size]
+            done += size
+            at = pixel[entry]
+            colour[at], coverage[at], height[at], opacity[at] = composite(
+                colour[at], coverage[at], height[at], opacity[at], footprints.transmittance[entry],
+                footprints.paint[entry], footprints.deposit[entry], footprints.height[entry],
+                inverse[owner[entry]], height_mode, build)
+
+    def lay_one(self, footprints: Footprints, stroke: int, height_mode: str, build: float) -> None:
+        """Lay stroke ``stroke`` of ``footprints`` alone, on the whole box around the pixels it touches.
+
+        The one-at-a-time reference of ``lay``: the same ``composite`` over
+        the box, where the pixels the stroke does not touch take
+        transmittance 1 and no paint, deposit or height (which leaves them as
+        they are).
+        """
+        entries = slice(int(footprints.starts[stroke]), int(footprints.starts[stroke + 1]))
+        pixel = footprints.pixel[entries]
+        if pixel.size == 0:
             return
-        fullness = np.multiply(deposit, np.float32(1.0 / full))
-        np.minimum(fullness, np.float32(1.0), out=fullness)
-        o = np.multiply(alpha, fullness, out=alpha)                  # the stroke's opacity (alpha is done)
-        loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
-        height = self.height[box]
-        fullness *= loss
-        fullness *= height
-        np.subtract(footprint.height, fullness, out=fullness)
-        fullness *= o
-        height += fullness
-        np.maximum(height, 0.0, out=height)
-        opacity = self.opacity[box]
-        np.subtract(1.0, opacity, out=scratch)
-        scratch *= o
-        opacity += scratch
+        rows, columns = np.divmod(pixel, self.height.shape[1])
+        top, left = int(rows.min()), int(columns.min())
+        shape = (int(rows.max()) - top + 1, int(columns.max()) - left + 1)
+        local = (rows - top, columns - left)
+        keep, paint = np.ones(shape, np.float32), np.zeros(shape + (3,), np.float32)
+        deposit, stroke_height = np.zeros(shape, np.float32), np.zeros(shape, np.float32)
+        keep[local] = footprints.transmittance[entries]
+        paint[local] = footprints.paint[entries]
+        deposit[local] = footprints.deposit[entries]
+        stroke_height[local] = footprints.height[entries]
+        box = (slice(top, top + shape[0]), slice(left, left + shape[1]))
+        inverse = np.full(shape, inverse_full(footprints.full[stroke:stroke + 1])[0], np.float32)
+        (self.colour[box], self.coverage[box], self.height[box], self.opacity[box]) = composite(
+            self.colour[box], self.coverage[box], self.height[box], self.opacity[box], keep, paint, deposit,
+            stroke_height, inverse, height_mode, build)
 
 
-def percentile_90(values: np.ndarray) -> np.float32:
-    """The 90th percentile of the positive entries of ``values`` (any shape, >= 0), linear between order
-    statistics as np.percentile; 0 when none is positive.
+def inverse_full(full: np.ndarray) -> np.ndarray:
+    """(N,) float32 1 / full where full > 0, else 0 (a stroke that deposits nothing changes no height)."""
+    full = np.asarray(full, np.float32)
+    return np.divide(np.float32(1.0), full, out=np.zeros_like(full), where=full > 0)
 
-    The zeros are the smallest entries, so the percentile is an order
-    statistic of the whole array: no copy of the positive entries is needed.
+
+def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opacity: np.ndarray,
+              keep: np.ndarray, paint: np.ndarray, deposit: np.ndarray, stroke_height: np.ndarray,
+              inverse: np.ndarray, height_mode: str, build: float) -> tuple:
+    """One stroke laid on canvas values (ALGORITHM §6): new (colour, coverage, height, opacity), all float32.
+
+    Every argument is an array over the same pixels (colour and paint with
+    a last axis of 3): keep the stroke's transmittance, paint what it lays
+    on top, deposit and stroke_height its contact and height there, inverse
+    1 / its full deposit (its 90th-percentile deposit; 0 if it has none).
+    Colour by Eq. 4 (folded): C keep + paint; coverage as the same stroke
+    painted in white. The stroke's opacity o = a f, with a = 1 - keep its
+    colour alpha and f = min(1, deposit / full) how fully its paint covers,
+    so the opacity follows the bristles' real footprint and fades with them
+    at the edges and ends. Height, with h the stroke's height:
+    'over'        H <- H + o h - o f H          (= o h + (1 - o) H where f = 1),
+    'accumulate'  H <- H + o h - o f (1 - b) H  (= o (h + b H) + (1 - o) H where f = 1),
+    b = ``build`` in [0, 1), never below 0. Where the stroke covers fully
+    this is the paper's weighted sum (or bounded build-up: H tends to
+    h / (1 - b) under repeated strokes); at its feathered edges and ends,
+    where f < 1, the thin paint lies on the old instead of replacing it, so a
+    stroke never digs a groove into the paint beneath. Opacity A = o + (1 - o) A.
     """
-    n = int(np.count_nonzero(values))
-    if n == 0:
-        return np.float32(0.0)
-    position = 0.9 * (n - 1)
-    below = int(position)
-    at = values.size - n + below
-    ordered = np.partition(values.ravel(), at)
-    low = ordered[at]
-    high = ordered[at + 1:].min() if below + 1 < n else low    # the next order statistic
-    return np.float32(low + (high - low) * (position - below))
+    colour = colour * keep[..., None] + paint
+    alpha = np.float32(1.0) - keep
+    coverage = coverage + (np.float32(1.0) - coverage) * alpha
+    fullness = np.minimum(deposit * inverse, np.float32(1.0))
+    o = alpha * fullness
+    loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
+    height = np.maximum(height + (stroke_height - fullness * loss * height) * o, np.float32(0.0))
+    opacity = opacity + (np.float32(1.0) - opacity) * o
+    return colour, coverage, height, opacity

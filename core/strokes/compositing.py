@@ -1,19 +1,22 @@
-"""Whole-stroke compositing of stamped bristles (ALGORITHM §5, Eq. 4, and §6).
+"""What a run of strokes lays on the canvas, pixel by pixel (ALGORITHM §5, Eq. 4, and §6).
 
-A stroke is the brush stamped along its path, turned along the path. Each
-bristle of each stamp lands at a sub-pixel position and is splatted onto the
-four pixels around it with bilinear weights w; a pixel receiving weight w of
-a bristle of contact I is covered as by a bristle of contact 1 - (1 - I)^w
-(contact adds as optical depth, so a bristle split over four pixels covers
-exactly what it would on one, and a shifted stroke is the same stroke moved).
-Every (stamp, bristle, pixel) triple is a contribution. Folding Eq. 4,
-C <- a C_b + (1 - a) C, over a pixel's contributions in stamp order gives
+A stroke is its brush stamped along its path, turned along the path. Each
+column of the brush draws one track; the rows passing over a point of it
+fold, in stamp order, into one contribution of Eq. 4 (``core.strokes.folding``).
+The track is sampled every px of arc and each track sample is splatted onto
+the four pixels around it with bilinear weights w: it lays optical depth
+w d (a pixel receiving weight w of a contribution of alpha a is covered as
+by one of alpha 1 - (1 - a)^w, so a split sample covers exactly what it
+would on one pixel, and a shifted stroke is the same stroke moved). The
+samples of one stroke that meet at a pixel (neighbouring columns and arc
+positions, whose colours are close) lay their paint together, mixed by the
+depth each lays: a pixel's transmittance is exp(-sum d) and its paint
+(1 - exp(-sum d)) sum d C / sum d. The order of Eq. 4 is kept between
+strokes (``core.strokes.canvas``) and, through the fold, between a column's rows.
 
-    C = sum_s a_s C_s prod_{t>s} (1 - a_t) + C_0 prod_t (1 - a_t),
-
-which is computed for all pixels at once: contributions are sorted by pixel
-(stably, so stamp order is kept inside a pixel) and the suffix products come
-from a cumulative sum of log(1 - a).
+All strokes of a run are computed together as flat arrays; the result holds
+one entry per (stroke, pixel the stroke touches), strokes in order, so no
+per-stroke box of untouched pixels is ever filled.
 """
 
 from __future__ import annotations
@@ -23,292 +26,228 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from .folding import MAX_INTENSITY, tip_grid, track_folds
+from .brush import BrushTip
+from .folding import RowTables, run_colours, tip_grid
+
+# Box pixels accumulated at once when splatting (bounds the scratch memory: 6 float64 values each).
+SPLAT_CHUNK_PIXELS = 1 << 21
 
 
 @dataclass
-class Footprint:
-    """What one stroke does to the box of canvas pixels around it.
+class Footprints:
+    """What N strokes lay: one entry per (stroke, touched pixel), grouped by stroke in order.
 
-    top, left:     the box's first row and column on the canvas (px).
-    transmittance: float32 (h, w) in [0, 1], prod (1 - a) over all contributions: the share
-                   of the old canvas colour that shows through (1 where the stroke missed).
-    paint:         float32 (h, w, 3) sum_s a_s C_s prod_{t>s} (1 - a_t): the paint laid on top.
-    deposit:       float32 (h, w) >= 0, bristle contact that passed over the pixel, divided by
-                   the brush's rows (a full pass of a uniform brush of contact I deposits I).
-    height:        float32 (h, w) >= 0, the deposit shaped by the stroke's relief (ridges, build-up).
+    starts: int64 (N + 1,): stroke i's entries are [starts[i], starts[i + 1]).
+    pixel: int64 (E,) flat index (row * W + column) of the pixel, ascending within a stroke.
+    transmittance: float32 (E,) in [0, 1], the share of the old colour that shows through.
+    paint: float32 (E, 3), the paint laid on top: sum_s a_s C_s prod_{t>s} (1 - a_t).
+    deposit: float32 (E,) >= 0, bristle contact that passed over the pixel, divided by the brush's
+             rows (a full pass of a uniform brush of contact I deposits I).
+    height: float32 (E,) >= 0, the deposit shaped by the stroke's relief (ridges, build-up).
+    full: float32 (N,) each stroke's full deposit: the 90th percentile of its positive deposits.
     """
 
-    top: int
-    left: int
+    starts: np.ndarray
+    pixel: np.ndarray
     transmittance: np.ndarray
     paint: np.ndarray
     deposit: np.ndarray
     height: np.ndarray
-
-    @classmethod
-    def empty(cls) -> "Footprint":
-        """A stroke that touches no pixel."""
-        zero = np.zeros((0, 0), np.float32)
-        return cls(0, 0, zero, np.zeros((0, 0, 3), np.float32), zero, zero)
-
-    @property
-    def touched(self) -> np.ndarray:
-        """bool (h, w): the pixels of the box the stroke laid contact (and so paint) on."""
-        return self.deposit > 0.0
+    full: np.ndarray
 
 
-def stamp_positions(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray) -> tuple:
-    """Positions (x, y), each (S, B) float32 px, of B bristles stamped at S path samples.
+def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """(N,) float32: the 90th percentile of the positive entries of each of N runs of ``deposit`` (E,) >= 0.
 
-    samples (S, 2) (x, y); angles (S,) direction of travel; along/across (B,)
-    bristle offsets along the path and towards its left-hand normal
-    (direction turned by +90 degrees, in image axes).
+    Runs are [starts[i], starts[i + 1]); linear between order statistics as
+    np.percentile (in float64); 0 for a run with no positive entry. One sort
+    of the whole array: each value's float32 bits (which order non-negative
+    floats) below its run's index.
     """
-    c = np.cos(angles).astype(np.float32)[:, None]
-    s = np.sin(angles).astype(np.float32)[:, None]
-    along = np.asarray(along, np.float32)[None, :]
-    across = np.asarray(across, np.float32)[None, :]
-    x = samples[:, 0:1].astype(np.float32) + along * c - across * s
-    y = samples[:, 1:2].astype(np.float32) + along * s + across * c
-    return x, y
+    n = len(starts) - 1
+    out = np.zeros(n, np.float32)
+    counts = np.diff(starts)
+    nonempty = counts > 0
+    if not nonempty.any():
+        return out
+    deposit = np.ascontiguousarray(deposit, np.float32)
+    owner = np.repeat(np.arange(n, dtype=np.uint64), counts)
+    keys = (owner << np.uint64(32)) | deposit.view(np.uint32).astype(np.uint64)
+    keys.sort()
+    ordered = (keys & np.uint64(0xFFFFFFFF)).astype(np.uint32).view(np.float32)
+    positive = np.zeros(n, np.int64)
+    positive[nonempty] = np.add.reduceat((deposit > 0).astype(np.int64), starts[:-1][nonempty])
+    has = positive > 0
+    count = positive[has]
+    position = 0.9 * (count - 1)
+    below = position.astype(np.int64)
+    first = starts[1:][has] - count                              # the positives are each run's last entries
+    low = ordered[first + below].astype(np.float64)
+    high = np.where(below + 1 < count, ordered[np.minimum(first + below + 1, len(ordered) - 1)], low)
+    out[has] = (low + (high - low) * (position - below)).astype(np.float32)
+    return out
 
 
-def bilinear_splat(x: np.ndarray, y: np.ndarray, shape: tuple) -> tuple:
-    """The four pixels around each position and their bilinear weights.
-
-    x, y: (N,) float32 px (pixel centres at integers). Returns (columns, rows)
-    int32 (N, 4) and weights float32 (N, 4) summing to 1 per position.
-    """
-    fx = np.floor(x)
-    fy = np.floor(y)
-    ax = x - fx
-    ay = y - fy
-    bx = 1.0 - ax
-    by = 1.0 - ay
-    weights = np.stack([bx * by, ax * by, bx * ay, ax * ay], axis=1)
-    ix = fx.astype(np.int32)[:, None] + np.array([0, 1, 0, 1], np.int32)
-    iy = fy.astype(np.int32)[:, None] + np.array([0, 0, 1, 1], np.int32)
-    return ix, iy, weights
+def _lerp_at(values: np.ndarray, index: np.ndarray, nxt: np.ndarray, frac: np.ndarray) -> np.ndarray:
+    """values[index] (1 - frac) + values[nxt] frac, for (K,) or (K, C) ``values`` rows."""
+    if values.ndim == 2:
+        frac = frac[:, None]
+    return values[index] * (1.0 - frac) + values[nxt] * frac
 
 
-def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray,
-                     intensity: np.ndarray, colours: np.ndarray, shape: tuple, repeat: int = 1,
-                     contact: np.ndarray = None, stamp_relief: np.ndarray = None,
-                     bristle_relief: np.ndarray = None, rows: float = 1.0) -> Footprint:
-    """Composite a whole stroke: the Footprint of B bristles stamped at S samples on an (H, W) canvas.
-
-    intensity (B,) in (0, 1]; colours (B, 3) sRGB, one per bristle, kept along the whole path.
-    repeat: each stamp stands for this many identical stamps (a number, or (S,)
-    one per stamp), so a bristle of contact I lets (1 - I)^repeat of the
-    colour below show through.
-    contact: (S,) in [0, 1], each stamp's pressure (the brush lifting at the
-    ends), multiplying the bristles' contact; default 1.
-    stamp_relief (S,), bristle_relief (B,): factors >= 0 on the height each
-    contribution builds (paint gathering where the brush lifts, ridges at the
-    sides); default 1. rows: the deposit's normaliser, the rows of the brush
-    (with samples one px apart a bristle passing over a pixel deposits its
-    contact once).
-    Contributions off the canvas are dropped.
-    """
-    h, w = shape
-    n_stamps, n_bristles = len(samples), len(intensity)
-    x, y = stamp_positions(samples, angles, along, across)
-    strength = np.broadcast_to(np.asarray(intensity, np.float32)[None, :], (n_stamps, n_bristles))
-    if contact is not None:
-        strength = strength * np.asarray(contact, np.float32)[:, None]
-    strength = np.minimum(strength, np.float32(MAX_INTENSITY)).ravel()
-    ix, iy, weight = bilinear_splat(x.ravel(), y.ravel(), shape)
-    inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h) & (weight > 0)
-    contribution = np.flatnonzero(inside.ravel()).astype(np.int32)
-    if contribution.size == 0 or not np.any(strength > 0):
-        return Footprint.empty()
-    ix = ix.ravel()[contribution]
-    iy = iy.ravel()[contribution]
-    x0, y0 = int(ix.min()), int(iy.min())
-    box_w = int(ix.max()) - x0 + 1
-    local = (iy - y0) * np.int32(box_w) + (ix - x0)            # int32 keys: the stable sort is fast on them
-    order = np.argsort(local, kind="stable")
-    contribution = contribution[order]
-    local = local[order]
-    point = contribution >> 2                                  # (stamp, bristle) index
-    weight = weight.ravel()[contribution].astype(np.float64)
-    bristle = point % n_bristles
-
-    new_pixel = np.empty(len(local), dtype=bool)
-    new_pixel[0] = True
-    np.not_equal(local[1:], local[:-1], out=new_pixel[1:])
-    starts = np.flatnonzero(new_pixel)
-    ends = np.append(starts[1:], len(local))
-    counts = ends - starts
-
-    repeat = np.broadcast_to(np.asarray(repeat, np.float64)[..., None], (n_stamps, n_bristles)).ravel()
-    point_log_keep = repeat * np.log1p(-strength.astype(np.float64))
-    log_keep = weight * point_log_keep[point]
-    cumulative = np.cumsum(log_keep)
-    segment_total_cum = np.repeat(cumulative[ends - 1], counts)
-    after = np.exp(segment_total_cum - cumulative)             # prod over later contributions of (1 - a)
-    paint_weight = (-np.expm1(log_keep) * after).astype(np.float32)
-    paint = np.add.reduceat(paint_weight[:, None] * np.asarray(colours, dtype=np.float32)[bristle], starts, axis=0)
-    before_start = cumulative[starts] - log_keep[starts]
-    transmittance = np.exp(cumulative[ends - 1] - before_start)
-
-    laid = (weight * (repeat[point] / float(rows))).astype(np.float32) * strength[point]
-    deposit = np.add.reduceat(laid, starts)
-    if stamp_relief is not None or bristle_relief is not None:
-        gain = np.ones(len(point), np.float32)
-        if stamp_relief is not None:
-            gain *= np.asarray(stamp_relief, np.float32)[point // n_bristles]
-        if bristle_relief is not None:
-            gain *= np.asarray(bristle_relief, np.float32)[bristle]
-        height = np.add.reduceat(laid * gain, starts)
-    else:
-        height = deposit
-    box_h = int(local[-1]) // box_w + 1
-    at = local[starts]
-    box = Footprint(y0, x0, np.ones((box_h, box_w), np.float32), np.zeros((box_h, box_w, 3), np.float32),
-                    np.zeros((box_h, box_w), np.float32), np.zeros((box_h, box_w), np.float32))
-    box.transmittance.ravel()[at] = transmittance
-    box.paint.reshape(-1, 3)[at] = paint
-    box.deposit.ravel()[at] = deposit
-    box.height.ravel()[at] = height
-    return box
+def _segment_gradient(values: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """np.gradient along axis 0 of (K, C) ``values`` within each run of ``starts`` (zero for a run of one)."""
+    out = np.zeros_like(values)
+    if len(values) > 2:
+        out[1:-1] = (values[2:] - values[:-2]) / 2
+    first, last = starts[:-1], starts[1:] - 1
+    long = last > first
+    f, e = first[long], last[long]
+    out[f] = values[f + 1] - values[f]
+    out[e] = values[e] - values[e - 1]
+    return out
 
 
-def path_at(samples: np.ndarray, angles: np.ndarray, arc: np.ndarray) -> tuple:
-    """Positions (x, y) and directions (K,) along a path of S samples one px apart, at arc lengths ``arc`` (K,) px.
+def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray, tip: BrushTip,
+                     colours: np.ndarray, shape: tuple, passes: float = 1.0, contact: np.ndarray = None,
+                     stamp_relief: np.ndarray = None, bristle_relief: np.ndarray = None,
+                     rows: float = 1.0) -> Footprints:
+    """The Footprints of N strokes of one brush, each stamped along its path at every stamp.
 
-    Inside [0, S - 1] positions and unwrapped directions are interpolated
-    linearly; beyond the ends the path goes on straight along its end directions.
-    """
-    s = len(samples)
-    theta = np.unwrap(np.asarray(angles, np.float64))
-    if s == 1:
-        t = np.asarray(arc, np.float64)
-        return samples[0, 0] + t * np.cos(theta[0]), samples[0, 1] + t * np.sin(theta[0]), np.full(len(t), theta[0])
-    index = np.arange(s, dtype=np.float64)
-    t = np.asarray(arc, np.float64)
-    x = np.interp(t, index, samples[:, 0])
-    y = np.interp(t, index, samples[:, 1])
-    direction = np.interp(t, index, theta)
-    before, after = t < 0, t > s - 1
-    x[before] = samples[0, 0] + t[before] * np.cos(theta[0])
-    y[before] = samples[0, 1] + t[before] * np.sin(theta[0])
-    x[after] = samples[-1, 0] + (t[after] - (s - 1)) * np.cos(theta[-1])
-    y[after] = samples[-1, 1] + (t[after] - (s - 1)) * np.sin(theta[-1])
-    return x, y, direction
+    stamps (M, 2) (x, y) px, one px apart along each stroke, and angles (M,)
+    its direction of travel there; stroke i's stamps are [starts[i],
+    starts[i + 1]). tip: the brush (B bristles); colours (N, B, 3) sRGB,
+    each stroke's bristle colours, kept along its whole path. shape: the
+    canvas (H, W). passes: each stamp stands for this many identical stamps
+    (a bristle of contact I lets (1 - I)^passes of the colour below show
+    through). contact (M,) in [0, 1]: each stamp's pressure (the brush
+    lifting at the ends); stamp_relief (M,), bristle_relief (B,): factors
+    >= 0 on the height each contribution builds (paint gathering where the
+    brush lifts, ridges at the sides); rows: the deposit's normaliser, the
+    rows of the brush. Contributions off the canvas are dropped.
 
-
-def track_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray,
-                    intensity: np.ndarray, colours: np.ndarray, shape: tuple, passes: float = 1.0,
-                    contact: np.ndarray = None, stamp_relief: np.ndarray = None,
-                    bristle_relief: np.ndarray = None, rows: float = 1.0) -> Footprint:
-    """The Footprint of a stroke with every bristle column folded once: the fast form of ``stroke_footprint``.
-
-    samples (S, 2), one px apart, and angles (S,): the path, stamped at every
-    sample; the other arguments as ``stroke_footprint`` (``passes`` is its
-    ``repeat``, the same for every stamp; contact and stamp_relief (S,)).
     On a straight path the bristle of row r stamped at sample s lands where
-    the bristle of row r + 1 lands at sample s + 1: each column of the brush
-    draws one track, and the rows passing over a point of it fold, in stamp
-    order (front row first), into one contribution (paint, transmittance) of
-    Eq. 4. The track is sampled every px of arc, each sample folding the rows
-    whose stamps exist there (all of them inside the stroke, fewer at its
-    ends), then splatted like a bristle (see the module docstring). This lays
-    R times fewer contributions for a brush R rows long (the folds come from
-    ``core.strokes.folding.track_folds``). The few track samples that meet
-    at a pixel (neighbouring columns and arc positions of one stroke, whose
-    colours are close) lay their paint together, mixed by the optical depth
-    each lays (``splat_box``: one sparse product for the whole stroke); the
-    order of Eq. 4 is kept between strokes and, through the fold, between a
-    column's rows. On
-    a curved path a track follows the path's normal at its own arc length,
-    which differs from stamping by the brush's turn over its own length; the
-    contact and relief of a track sample are the path's at its arc length.
+    the bristle of row r + 1 lands at sample s + 1: each column of the
+    brush draws one track, sampled every px of arc, each sample folding the
+    rows whose stamps exist there (all of them inside the stroke, fewer at
+    its ends). On a curved path a track follows the path's normal at its own
+    arc length, which differs from stamping by the brush's turn over its own
+    length; the contact and relief of a track sample are the path's at its
+    arc length, beyond the path's ends it goes on straight.
     """
     h, w = shape
-    n_samples = len(samples)
-    row, column, n_rows, n_columns = tip_grid(along, across)
+    n = len(starts) - 1
+    if n == 0:
+        empty = np.zeros(0, np.float32)
+        return Footprints(np.zeros(1, np.int64), np.zeros(0, np.int64), empty, np.zeros((0, 3), np.float32), empty,
+                          empty, empty)
+    row, column, n_rows, n_columns = tip_grid(tip.along, tip.across)
     grid = np.zeros((n_rows, n_columns), np.float32)
-    grid[row, column] = intensity
-    grid_colour = np.zeros((n_rows, n_columns, 3), np.float32)
-    grid_colour[row, column] = colours
-    offsets = (float(np.min(across)) + np.arange(n_columns)).astype(np.float32)
+    grid[row, column] = tip.intensity
+    grid_colours = np.zeros((n, n_rows, n_columns, 3), np.float32)
+    grid_colours[:, row, column] = colours
     ridge = np.ones(n_columns, np.float32)
     if bristle_relief is not None:
         ridge[column] = bristle_relief
+    offsets = (float(np.min(tip.across)) + np.arange(n_columns)).astype(np.float32)
 
-    n_track = n_samples + n_rows - 1
-    k = np.arange(n_track)
-    arc = k - (n_rows - 1) + float(np.max(along))                    # arc length of each track sample (px)
+    # the track samples of every stroke: stamps + rows - 1 of them, arc one px apart
+    count = np.diff(starts)
+    track_starts = np.zeros(n + 1, np.int64)
+    np.cumsum(count + n_rows - 1, out=track_starts[1:])
+    owner = np.repeat(np.arange(n), count + n_rows - 1)
+    k = np.arange(track_starts[-1]) - track_starts[owner]
+    arc = k - (n_rows - 1) + float(np.max(tip.along))
     first_row = np.maximum(0, n_rows - 1 - k)
-    last_row = np.minimum(n_rows - 1, n_samples + n_rows - 2 - k)
-    stamp_index = np.arange(n_samples, dtype=np.float64)
-    touch = np.ones(n_track) if contact is None else np.interp(arc, stamp_index, contact)
-    colour, log_total, laid = track_folds(first_row, last_row, touch, grid, grid_colour, passes)
-    build = np.ones(n_track, np.float32) if stamp_relief is None else \
-        np.interp(arc, stamp_index, stamp_relief).astype(np.float32)
+    last_row = np.minimum(n_rows - 1, count[owner] + n_rows - 2 - k)
+    last_stamp = count[owner] - 1
+    at = np.clip(arc, 0.0, last_stamp)
+    below = np.minimum(np.floor(at).astype(np.int64), np.maximum(last_stamp - 1, 0))
+    frac = at - below
+    index, nxt = starts[owner] + below, starts[owner] + np.minimum(below + 1, last_stamp)
+    touch = np.ones(len(k)) if contact is None else _lerp_at(contact.astype(np.float64), index, nxt, frac)
+    build = np.ones(len(k)) if stamp_relief is None else _lerp_at(stamp_relief.astype(np.float64), index, nxt, frac)
+    log_total, laid = RowTables.of(grid, passes).runs(first_row, last_row, touch)       # (K, W) each
 
-    # What each track sample lays, per unit of splat weight: optical depth, depth-weighted colour, contact, height.
-    values = np.empty((n_track, n_columns, 6), np.float32)
+    # where each track sample lies: the path at its arc, going on straight past the ends
+    base = _lerp_at(stamps, index, nxt, frac)
+    heading = _lerp_at(np.stack([np.cos(angles), np.sin(angles)], axis=1), index, nxt, frac)
+    heading /= np.maximum(np.hypot(heading[:, 0], heading[:, 1]), 1e-12)[:, None]
+    px = base[:, 0] + (arc - at) * heading[:, 0]
+    py = base[:, 1] + (arc - at) * heading[:, 1]
+    x = (px[:, None] - offsets[None, :] * heading[:, 1:2]).astype(np.float32)             # (K, W)
+    y = (py[:, None] + offsets[None, :] * heading[:, 0:1]).astype(np.float32)
+    span = np.hypot(_segment_gradient(x, track_starts), _segment_gradient(y, track_starts))
+    span[count[owner] + n_rows - 1 == 1] = 1.0
+
+    # what each track sample lays per unit of splat weight: depth, depth-weighted colour, contact, height
+    values = np.empty(log_total.shape + (6,), np.float32)
     np.negative(log_total, out=values[..., 0])
-    for ch in range(3):
-        np.multiply(colour[ch], values[..., 0], out=values[..., 1 + ch])
+    np.multiply(values[..., 0:1], run_colours(grid, grid_colours, passes, owner, first_row, last_row),
+                out=values[..., 1:4])
     np.multiply(laid, np.float32(1.0 / float(rows)), out=values[..., 4])
-    np.multiply(values[..., 4], build[:, None] * ridge[None, :], out=values[..., 5])
-
-    px, py, direction = path_at(np.asarray(samples, np.float64), angles, arc)
-    c, s = np.cos(direction)[:, None], np.sin(direction)[:, None]
-    x = (px[:, None] - offsets[None, :] * s).astype(np.float32)                             # (K, W)
-    y = (py[:, None] + offsets[None, :] * c).astype(np.float32)
-    if n_track > 1:                                                                         # arc a track sample spans
-        span = np.hypot(np.gradient(x, axis=0), np.gradient(y, axis=0)).astype(np.float32)
-    else:
-        span = np.ones_like(x)
-    return splat_box(x.ravel(), y.ravel(), span.ravel(), values.reshape(-1, 6), shape)
+    np.multiply(values[..., 4], (build[:, None] * ridge[None, :]).astype(np.float32), out=values[..., 5])
+    return _splat(x, y, span, values, track_starts * n_columns, (h, w))
 
 
-def splat_box(x: np.ndarray, y: np.ndarray, weight: np.ndarray, values: np.ndarray, shape: tuple) -> Footprint:
-    """The Footprint of N track samples at (x, y) (N,) px, each laying ``values`` (N, 6) times ``weight`` (N,).
+def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, entry_starts: np.ndarray,
+           shape: tuple) -> Footprints:
+    """Splat (K, W) track samples of N strokes bilinearly and sum them per (stroke, pixel).
 
-    values: optical depth d, depth-weighted colour d C (3), contact, height.
-    Each sample is splatted bilinearly onto the four pixels around it (one
-    sparse product over the box for all six values); a pixel's transmittance
-    is exp(-sum d) and its paint (1 - exp(-sum d)) sum d C / sum d.
+    x, y: (K, W) float32 positions (px); span: (K, W) the arc each sample
+    spans (its splat weight); values: (K, W, 6) what a sample lays per unit
+    of weight (depth, depth-weighted colour, deposit, height); entry_starts
+    (N + 1,) the strokes' runs of the flat (K W) samples. Each stroke sums
+    its samples on its own bounding box, a chunk of strokes at a time (one
+    sparse product per chunk, in sample order, float32); what lands off the
+    canvas is dropped.
     """
     h, w = shape
-    fx = np.floor(x)
-    fy = np.floor(y)
-    ix = fx.astype(np.int32)
-    iy = fy.astype(np.int32)
-    x0, y0 = int(ix.min()), int(iy.min())
-    box_w, box_h = int(ix.max()) - x0 + 2, int(iy.max()) - y0 + 2
-    top, left = max(y0, 0), max(x0, 0)
-    bottom, right = min(y0 + box_h, h), min(x0 + box_w, w)
-    if top >= bottom or left >= right:
-        return Footprint.empty()
-    ax = x - fx
-    ay = y - fy
-    bx = 1.0 - ax
-    by = (1.0 - ay) * weight
+    n = len(entry_starts) - 1
+    fx, fy = np.floor(x).ravel(), np.floor(y).ravel()
+    ax, ay = x.ravel() - fx, y.ravel() - fy
+    ix, iy = fx.astype(np.int64), fy.astype(np.int64)
+    seg = entry_starts[:-1]
+    x0, y0 = np.minimum.reduceat(ix, seg), np.minimum.reduceat(iy, seg)
+    box_w = np.maximum.reduceat(ix, seg) - x0 + 2
+    area = box_w * (np.maximum.reduceat(iy, seg) - y0 + 2)
+    weight = span.ravel()
+    bx, by = np.float32(1.0) - ax, (np.float32(1.0) - ay) * weight
     ay *= weight
-    weights = np.empty((len(x), 4), np.float32)                                              # bilinear, per corner
-    np.multiply(bx, by, out=weights[:, 0])
-    np.multiply(ax, by, out=weights[:, 1])
-    np.multiply(bx, ay, out=weights[:, 2])
-    np.multiply(ax, ay, out=weights[:, 3])
-    base = (iy - np.int32(y0)) * np.int32(box_w) + (ix - np.int32(x0))
-    corner = np.empty((len(x), 4), np.int32)
-    for i, offset in enumerate((0, 1, box_w, box_w + 1)):
-        np.add(base, np.int32(offset), out=corner[:, i])
-    splat = sparse.csc_matrix((weights.ravel(), corner.ravel(), np.arange(0, weights.size + 1, 4, dtype=np.int32)),
-                              shape=(box_h * box_w, len(x)))
-    laid = (splat @ values).reshape(box_h, box_w, 6)[top - y0:bottom - y0, left - x0:right - x0]
-    depth = laid[..., 0]
+    corner_weights = np.stack([bx * by, ax * by, bx * ay, ax * ay], axis=1)                  # (K W, 4)
+    values = values.reshape(-1, 6)
+    cut = np.searchsorted(np.cumsum(area), np.arange(1, int(area.sum() // SPLAT_CHUNK_PIXELS) + 1)
+                          * SPLAT_CHUNK_PIXELS)
+    bounds = np.unique(np.concatenate(([0], cut, [n])))
+    pixels, sums, owners = [], [], []
+    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+        lo, hi = int(entry_starts[a]), int(entry_starts[b])
+        box_start = np.zeros(b - a + 1, np.int64)
+        np.cumsum(area[a:b], out=box_start[1:])
+        o = np.repeat(np.arange(b - a), np.diff(entry_starts[a:b + 1]))
+        base = (box_start[o] + (iy[lo:hi] - y0[a:b][o]) * box_w[a:b][o] + (ix[lo:hi] - x0[a:b][o])).astype(np.int32)
+        stride = box_w[a:b][o].astype(np.int32)
+        corners = np.stack([base, base + 1, base + stride, base + stride + 1], axis=1)
+        size = int(box_start[-1])
+        splat = sparse.csc_matrix((corner_weights[lo:hi].ravel(), corners.ravel(),
+                                   np.arange(0, 4 * (hi - lo) + 1, 4, dtype=np.int64)), shape=(size, hi - lo))
+        laid = splat @ values[lo:hi]
+        touched = np.flatnonzero((laid[:, 0] > 0) | (laid[:, 4] > 0))
+        stroke = np.searchsorted(box_start, touched, side="right") - 1
+        row, column = np.divmod(touched - box_start[stroke], box_w[a:b][stroke])
+        row += y0[a:b][stroke]
+        column += x0[a:b][stroke]
+        on = (row >= 0) & (row < h) & (column >= 0) & (column < w)
+        pixels.append(row[on] * w + column[on])
+        sums.append(laid[touched[on]])
+        owners.append(stroke[on] + a)
+    pixel, laid, stroke = np.concatenate(pixels), np.concatenate(sums), np.concatenate(owners)
+    starts = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(stroke, minlength=n), out=starts[1:])
+    depth = np.ascontiguousarray(laid[:, 0])
     transmittance = np.exp(-depth)
     share = np.divide(1.0 - transmittance, depth, out=np.zeros_like(depth), where=depth > 0)
-    paint = np.empty(depth.shape + (3,), np.float32)
-    for ch in range(3):
-        np.multiply(laid[..., 1 + ch], share, out=paint[..., ch])
-    return Footprint(top, left, transmittance, paint, np.ascontiguousarray(laid[..., 4]),
-                     np.ascontiguousarray(laid[..., 5]))
+    paint = laid[:, 1:4] * share[:, None]
+    deposit = np.ascontiguousarray(laid[:, 4])
+    return Footprints(starts, pixel, transmittance, paint, deposit, np.ascontiguousarray(laid[:, 5]),
+                      full_deposits(deposit, starts))

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from typing import Optional, Tuple
-
 import numpy as np
 
 
@@ -13,51 +11,83 @@ def grid_order(grids: np.ndarray) -> np.ndarray:
     return np.argsort(-areas, kind="stable")
 
 
-def grid_pixels(source, grid) -> np.ndarray:
-    """(gh, gw, 3) float32 colours of ``grid`` (x0, y0, x1, y1) from an (H, W, 3) array or a ``SmoothedImage``."""
-    x0, y0, x1, y1 = grid
-    if isinstance(source, np.ndarray):
-        return source[y0:y1, x0:x1]
-    ys, xs = np.mgrid[y0:y1, x0:x1].astype(np.float32)
-    return source.sample(xs, ys)
+def size_runs(sizes: np.ndarray) -> list:
+    """[(size, first, stop), ...]: the runs of equal stroke size in ``sizes`` (N,) (grids in painting order)."""
+    sizes = np.asarray(sizes)
+    if sizes.size == 0:
+        return []
+    cut = np.flatnonzero(sizes[1:] != sizes[:-1]) + 1
+    bounds = np.concatenate(([0], cut, [len(sizes)]))
+    return [(int(sizes[a]), int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
 
 
-def choose_anchor(grid, coverage: np.ndarray, colour: np.ndarray, reference,
-                  coverage_threshold: float, difference_threshold: float,
-                  rng: np.random.Generator) -> Optional[Tuple[int, int]]:
-    """The anchor (x, y) of this layer's stroke in ``grid`` (x0, y0, x1, y1), or None.
+def painting_order(grids: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Indices of (N, 4) grids in the paper's order, largest first: by stroke size (N,), then area (ties keep
+    partition order), so each size's grids are one run."""
+    areas = (grids[:, 2] - grids[:, 0]).astype(np.int64) * (grids[:, 3] - grids[:, 1])
+    return np.lexsort((np.arange(len(grids)), -areas, -np.asarray(sizes, np.int64)))
+
+
+def grid_pixels(grids: np.ndarray) -> tuple:
+    """The pixels of (N, 4) grids (x0, y0, x1, y1), grid after grid in row-major order:
+    (x (P,), y (P,), starts (N + 1,)), grid i's pixels [starts[i], starts[i + 1])."""
+    grids = np.asarray(grids, np.int64).reshape(-1, 4)
+    widths = grids[:, 2] - grids[:, 0]
+    areas = widths * (grids[:, 3] - grids[:, 1])
+    starts = np.zeros(len(grids) + 1, np.int64)
+    np.cumsum(areas, out=starts[1:])
+    owner = np.repeat(np.arange(len(grids)), areas)
+    ly, lx = np.divmod(np.arange(starts[-1]) - starts[owner], widths[owner])
+    return grids[owner, 0] + lx, grids[owner, 1] + ly, starts
+
+
+def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
+                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
+    """This layer's anchors (x, y) in N (N, 4) grids (x0, y0, x1, y1) of one stroke size, all at once.
 
     coverage: (H, W) in [0, 1], how fully each pixel is painted (the painter
     passes the canvas opacity, where paint really lies; ALGORITHM §3's
     coverage map counts faint fringe stamps as half a cover).
-    reference: what the grid's strokes aim at, an (H, W, 3) array or a
-    ``SmoothedImage`` (the painter passes the reference at the grid's brush
-    scale: a stroke cannot paint detail finer than its brush, so a later layer
-    adds a stroke only where the canvas misses what a stroke of this size can give).
+    reference: a ``SmoothedImage`` of what the grids' strokes aim at (the
+    painter passes the reference at the grids' brush scale: a stroke cannot
+    paint detail finer than its brush, so a later layer adds a stroke only
+    where the canvas misses what a stroke of this size can give).
+    In each grid:
     1. p_min, the least-covered pixel, if its coverage < T_c;
     2. else p_max, the pixel whose canvas colour differs most from the
        reference, if that Euclidean RGB distance > T_d;
-    3. else no stroke. Ties (e.g. a whole grid still at coverage 0) are broken
-       by ``rng`` among the tied pixels, so anchors do not line up on grid corners.
+    3. else no stroke. Ties (e.g. a whole grid still at coverage 0) go to
+       tied pixel floor(u k) of the k tied ones in row-major order, u being
+       the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
+       line up on grid corners.
+    Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke).
     """
-    x0, y0, x1, y1 = grid
-    gw = x1 - x0
-    cov = coverage[y0:y1, x0:x1]
-    low = cov.min()
-    if low < coverage_threshold:
-        return pick_tied(np.flatnonzero(cov == low), x0, y0, gw, rng)
-    diff = colour[y0:y1, x0:x1] - grid_pixels(reference, grid)
-    dist2 = np.einsum("ijk,ijk->ij", diff, diff)
-    high = dist2.max()
-    if high > difference_threshold * difference_threshold:
-        return pick_tied(np.flatnonzero(dist2 == high), x0, y0, gw, rng)
-    return None
-
-
-def pick_tied(tied: np.ndarray, x0: int, y0: int, grid_width: int, rng: np.random.Generator) -> Tuple[int, int]:
-    """(x, y) of one of the ``tied`` flat indices of a grid at (x0, y0), ``grid_width`` px wide, drawn by ``rng``."""
-    k = int(tied[0]) if len(tied) == 1 else int(tied[rng.integers(len(tied))])
-    return x0 + k % grid_width, y0 + k // grid_width
+    n = len(grids)
+    x, y, starts = grid_pixels(grids)
+    owner = np.repeat(np.arange(n), np.diff(starts))
+    cov = coverage[y, x]
+    low = np.minimum.reduceat(cov, starts[:-1])
+    cover = low < coverage_threshold
+    candidate = cover[owner] & (cov == low[owner])
+    chosen = cover.copy()
+    rest = ~cover[owner]
+    if rest.any():
+        xs, ys = x[rest], y[rest]
+        diff = colour[ys, xs] - reference.sample(xs.astype(np.float32), ys.astype(np.float32))
+        dist2 = np.full(len(x), -np.inf, np.float32)
+        dist2[rest] = np.einsum("ij,ij->i", diff, diff)
+        high = np.maximum.reduceat(dist2, starts[:-1])
+        chosen |= ~cover & (high > np.float32(difference_threshold * difference_threshold))
+        candidate |= rest & (dist2 == high[owner])
+    candidate &= chosen[owner]
+    count = np.add.reduceat(candidate.astype(np.int64), starts[:-1])
+    pick = np.minimum((np.asarray(ties, np.float64) * count).astype(np.int64), np.maximum(count - 1, 0))
+    rank = np.cumsum(candidate) - 1
+    before = np.concatenate(([0], np.cumsum(count)[:-1]))
+    hit = np.flatnonzero(candidate & (rank == before[owner] + pick[owner]))
+    anchors = np.zeros((n, 2), np.int64)
+    anchors[owner[hit], 0], anchors[owner[hit], 1] = x[hit], y[hit]
+    return anchors, chosen
 
 
 def hertzmann_anchors(error: np.ndarray, spacing: int, threshold: float) -> np.ndarray:

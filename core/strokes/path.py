@@ -1,8 +1,10 @@
-"""Curved stroke paths (ALGORITHM §5, "The path").
+"""Curved stroke paths for many strokes at once (ALGORITHM §5, "The path").
 
 Points are float (x, y) pixel coordinates, x = column, y = row, pixel
 centres at integers. Angles are radians from +x towards +y, axial where
-they come from the orientation field.
+they come from the orientation field. A round's strokes are traced
+together: control points and curve samples as (strokes x points) arrays,
+stamps as one flat array with every stroke's run marked by ``starts``.
 """
 
 from __future__ import annotations
@@ -12,8 +14,8 @@ import math
 import numpy as np
 
 
-def axial_difference(a: np.ndarray, b: float) -> np.ndarray:
-    """Smallest angle in [0, pi/2] between axial directions ``a`` (array) and ``b``."""
+def axial_difference(a: np.ndarray, b) -> np.ndarray:
+    """Smallest angle in [0, pi/2] between axial directions ``a`` and ``b`` (broadcasting arrays)."""
     d = np.mod(np.asarray(a, dtype=np.float64) - b, math.pi)
     return np.minimum(d, math.pi - d)
 
@@ -21,53 +23,69 @@ def axial_difference(a: np.ndarray, b: float) -> np.ndarray:
 MAX_TURN_PER_STEP = math.radians(20.0)
 
 
-def trace_control_points(anchor: tuple, orientation: np.ndarray, step: float, forward: int, backward: int,
+def nearest_pixels(shape: tuple, x: np.ndarray, y: np.ndarray) -> tuple:
+    """(rows, columns) int arrays of the pixels nearest float positions x, y, clamped to an (H, W) canvas."""
+    h, w = shape[:2]
+    ix = np.minimum(np.maximum(np.floor(x + 0.5), 0), w - 1).astype(np.intp)
+    iy = np.minimum(np.maximum(np.floor(y + 0.5), 0), h - 1).astype(np.intp)
+    return iy, ix
+
+
+def trace_control_points(anchors: np.ndarray, orientation: np.ndarray, step: float, forward: int, backward: int,
                          max_turn: float = MAX_TURN_PER_STEP, margin: float = 0.0) -> tuple:
-    """Control points from ``anchor`` following the orientation field both ways.
+    """Control points of N strokes from their ``anchors`` following the orientation field both ways.
 
-    anchor: (x, y) integer pixel. orientation: (H, W) axial angles. step:
-    distance between control points in px (the brush radius). forward,
-    backward: control points besides the anchor at most on each side; each
-    side stops where it would go more than ``margin`` px past the canvas's
-    border (a painter's stroke runs off the edge; the field is read at the
-    nearest pixel on the canvas). At every point the field's
-    axial direction is turned to agree with the previous step, so the path
-    turns as little as it can (Hertzmann 1998), and each step turns at most
-    ``max_turn`` radians from the one before: the path's radius of curvature
-    stays above step / max_turn (about three brush radii at 20 degrees), so
-    the inner side of a turning brush never folds back over itself and piles
-    paint up.
+    anchors: (N, 2) int (x, y) pixels. orientation: (H, W) axial angles.
+    step: distance between control points (px, the brush radius). forward,
+    backward: control points besides the anchor at most on each side; a side
+    stops where it would go more than ``margin`` px past the canvas's border
+    (a painter's stroke runs off the edge; the field is read at the nearest
+    pixel on the canvas). At every point the field's axial direction is
+    turned to agree with the previous step, so the path turns as little as it
+    can (Hertzmann 1998), and each step turns at most ``max_turn`` radians
+    from the one before: the path's radius of curvature stays above
+    step / max_turn, so the inner side of a turning brush never folds back
+    over itself and piles paint up.
 
-    Returns (points (K, 2) float64 ordered backward end -> forward end,
-    index of the anchor in them).
+    Returns (points (N, backward + 1 + forward, 2) float64 ordered backward
+    end -> forward end, the anchor at index ``backward``; counts (N, 2) int,
+    the control points traced forward and backward). Beyond a side's last
+    traced point the array goes on straight, one step at a time, so a
+    Catmull-Rom curve through the array ends with the usual mirrored end
+    tangent inside the traced part.
     """
+    anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     h, w = orientation.shape
-    x0, y0 = float(anchor[0]), float(anchor[1])
-    theta0 = float(orientation[int(y0), int(x0)])
-    sides = []
-    for sign, count in ((1.0, forward), (-1.0, backward)):
-        dx, dy = sign * math.cos(theta0), sign * math.sin(theta0)
-        x, y = x0, y0
-        side = []
-        for _ in range(count):
-            theta = float(orientation[min(max(int(round(y)), 0), h - 1), min(max(int(round(x)), 0), w - 1)])
-            cx, cy = math.cos(theta), math.sin(theta)
-            if cx * dx + cy * dy < 0.0:
-                cx, cy = -cx, -cy
-            turn = math.atan2(dx * cy - dy * cx, dx * cx + dy * cy)
-            if abs(turn) > max_turn:
-                limited = math.copysign(max_turn, turn)
-                cx = dx * math.cos(limited) - dy * math.sin(limited)
-                cy = dx * math.sin(limited) + dy * math.cos(limited)
+    n = len(anchors)
+    x0, y0 = anchors[:, 0].astype(np.float64), anchors[:, 1].astype(np.float64)
+    theta0 = orientation[anchors[:, 1], anchors[:, 0]].astype(np.float64)
+    points = np.empty((n, backward + 1 + forward, 2), np.float64)
+    points[:, backward, 0], points[:, backward, 1] = x0, y0
+    counts = np.zeros((n, 2), np.int64)
+    for side, (sign, count) in enumerate(((1.0, forward), (-1.0, backward))):
+        dx, dy = sign * np.cos(theta0), sign * np.sin(theta0)
+        x, y = x0.copy(), y0.copy()
+        alive = np.ones(n, bool)
+        for i in range(count):
+            iy, ix = nearest_pixels((h, w), x, y)
+            theta = orientation[iy, ix].astype(np.float64)
+            cx, cy = np.cos(theta), np.sin(theta)
+            flip = cx * dx + cy * dy < 0.0
+            cx, cy = np.where(flip, -cx, cx), np.where(flip, -cy, cy)
+            turn = np.arctan2(dx * cy - dy * cx, dx * cx + dy * cy)
+            over = np.abs(turn) > max_turn
+            if over.any():
+                limited = np.clip(turn, -max_turn, max_turn)
+                cl, sl = np.cos(limited), np.sin(limited)
+                cx, cy = np.where(over, dx * cl - dy * sl, cx), np.where(over, dx * sl + dy * cl, cy)
             nx, ny = x + step * cx, y + step * cy
-            if not (-margin <= nx <= w - 1 + margin and -margin <= ny <= h - 1 + margin):
-                break
-            x, y, dx, dy = nx, ny, cx, cy
-            side.append((x, y))
-        sides.append(side)
-    forward_points, backward_points = sides
-    points = backward_points[::-1] + [(x0, y0)] + forward_points
-    return np.array(points, dtype=np.float64), len(backward_points)
+            alive &= (nx >= -margin) & (nx <= w - 1 + margin) & (ny >= -margin) & (ny <= h - 1 + margin)
+            x, y = np.where(alive, nx, x + step * dx), np.where(alive, ny, y + step * dy)
+            dx, dy = np.where(alive, cx, dx), np.where(alive, cy, dy)
+            counts[:, side] += alive
+            at = backward + 1 + i if sign > 0 else backward - 1 - i
+            points[:, at, 0], points[:, at, 1] = x, y
+    return points, counts
 
 
 _BASIS_CACHE: dict = {}
@@ -84,77 +102,83 @@ def catmull_rom_basis(n: int) -> np.ndarray:
     return basis
 
 
-def catmull_rom(points: np.ndarray, spacing: float = 1.0) -> tuple:
-    """Sample a uniform Catmull-Rom curve through ``points`` about every ``spacing`` px.
+def catmull_rom(points: np.ndarray, per_segment: int) -> np.ndarray:
+    """Samples of uniform Catmull-Rom curves through N rows of K control points.
 
-    points: (K, 2) float. Every segment gets the same number of samples,
-    enough for its longest one (control points from trace_control_points are
-    equally spaced). Returns (samples (N, 2) float64, index of each control
-    point among the samples (K,) int). Every control point is a sample; a
-    single point gives a single sample.
+    points: (N, K, 2) float64; per_segment: samples per segment (>= 1).
+    Returns (N, (K - 1) per_segment + 1, 2) float64; control point k is
+    sample k per_segment. The curve's end tangents mirror the neighbouring
+    point (a point 2 P_0 - P_1 before the first, likewise after the last).
     """
-    k = len(points)
+    n, k = points.shape[:2]
     if k == 1:
-        return points.copy(), np.zeros(1, dtype=np.int64)
-    padded = np.concatenate(([2 * points[0] - points[1]], points, [2 * points[-1] - points[-2]]))
-    step = points[1:] - points[:-1]
-    longest = float(np.sqrt(np.max(step[:, 0] ** 2 + step[:, 1] ** 2)))
-    n = max(1, int(math.ceil(longest / spacing)))
-    windows = np.stack([padded[0:k - 1], padded[1:k], padded[2:k + 1], padded[3:k + 2]], axis=1)  # (K-1, 4, 2)
-    samples = np.einsum("nj,kjd->knd", catmull_rom_basis(n), windows).reshape(-1, 2)   # no BLAS
-    samples = np.concatenate((samples, points[-1:]))
-    control_index = np.arange(k, dtype=np.int64) * n
-    return samples, control_index
+        return points.copy()
+    padded = np.concatenate((2 * points[:, :1] - points[:, 1:2], points, 2 * points[:, -1:] - points[:, -2:-1]),
+                            axis=1)
+    windows = np.stack([padded[:, 0:k - 1], padded[:, 1:k], padded[:, 2:k + 1], padded[:, 3:k + 2]], axis=2)
+    samples = np.einsum("tj,nkjd->nktd", catmull_rom_basis(per_segment), windows).reshape(n, -1, 2)   # no BLAS
+    return np.concatenate((samples, points[:, -1:]), axis=1)
 
 
-def tangent_angles(samples: np.ndarray, fallback: float) -> np.ndarray:
-    """(N,) direction of travel (radians) at each of (N, 2) samples; ``fallback`` for a single point."""
-    if len(samples) < 2:
-        return np.full(len(samples), fallback, dtype=np.float64)
-    d = np.empty_like(samples)
-    d[1:-1] = samples[2:] - samples[:-2]
-    d[0] = samples[1] - samples[0]
-    d[-1] = samples[-1] - samples[-2]
-    return np.arctan2(d[:, 1], d[:, 0])
+def resample_by_length(samples: np.ndarray, first: np.ndarray, last: np.ndarray, spacing: float = 1.0) -> tuple:
+    """Stamps every ``spacing`` px of arc length along the kept part of each of N sampled curves.
 
-
-def first_failure(ok: np.ndarray) -> int:
-    """Index of the first False in boolean ``ok`` (len(ok) if none)."""
-    bad = np.flatnonzero(~ok)
-    return int(bad[0]) if bad.size else len(ok)
-
-
-def clip_path(samples: np.ndarray, anchor_index: int, keep: np.ndarray) -> tuple:
-    """Keep the run of samples around the anchor up to the first sample where ``keep`` is False.
-
-    samples: (N, 2); keep: (N,) bool (its value at the anchor is ignored).
-    Walks outward from the anchor both ways and drops each side from its
-    first failing sample on. Returns (samples (M, 2), new anchor index).
+    samples: (N, S, 2) float64; stroke i keeps samples first[i] .. last[i]
+    (inclusive). A stroke of length L gets stamps at arc lengths 0, spacing,
+    ... below L and one at L itself (unless the one before is within 1e-6
+    px); a stroke of length 0 is one stamp. Returns (stamps (M, 2) float64,
+    arc (M,) float64 px from the stroke's start, starts (N + 1,) int: stroke
+    i's stamps are [starts[i], starts[i + 1])).
     """
-    forward = first_failure(keep[anchor_index + 1:])
-    backward = first_failure(keep[:anchor_index][::-1])
-    start, stop = anchor_index - backward, anchor_index + 1 + forward
-    return samples[start:stop], anchor_index - start
+    n, s = samples.shape[:2]
+    rows = np.arange(n)
+    step = np.diff(samples, axis=1)
+    seg = np.hypot(step[..., 0], step[..., 1])
+    index = np.arange(s - 1)
+    seg[(index[None, :] < first[:, None]) | (index[None, :] >= last[:, None])] = 0.0
+    arc = np.zeros((n, s), np.float64)
+    np.cumsum(seg, axis=1, out=arc[:, 1:])
+    total = arc[rows, last]
+    whole = np.ceil(total / spacing).astype(np.int64)
+    tail = (total > 0) & (total - (whole - 1) * spacing > 1e-6)
+    count = np.where(total > 0, whole + tail, 1)
+    starts = np.zeros(n + 1, np.int64)
+    np.cumsum(count, out=starts[1:])
+    owner = np.repeat(rows, count)
+    local = np.arange(starts[-1]) - starts[owner]
+    t = np.where(local >= whole[owner], total[owner], local * spacing)
+    # the sample segment [j, j + 1] holding each stamp: the last j in [first, last - 1] with arc[j] <= t
+    lo = first[owner].copy()
+    hi = np.maximum(last[owner] - 1, lo)
+    for _ in range(max(1, int(s).bit_length())):
+        mid = (lo + hi + 1) // 2
+        below = arc[owner, mid] <= t
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid - 1)
+    nxt = np.minimum(lo + 1, last[owner])
+    length = arc[owner, nxt] - arc[owner, lo]
+    frac = np.clip(np.divide(t - arc[owner, lo], length, out=np.zeros_like(t), where=length > 0), 0.0, 1.0)
+    a, b = samples[owner, lo], samples[owner, nxt]
+    stamps = a + frac[:, None] * (b - a)
+    return stamps, t, starts
 
 
-def resample_by_length(points: np.ndarray, spacing: float = 1.0) -> tuple:
-    """Points every ``spacing`` px of arc length along the polyline through (N, 2) ``points``.
+def tangent_angles(points: np.ndarray, starts: np.ndarray, fallback: np.ndarray) -> np.ndarray:
+    """(M,) direction of travel (radians) at stamps (M, 2) of N strokes laid out by ``starts`` (N + 1,).
 
-    Returns (samples (M, 2) float64 starting at points[0], arc length of each
-    (M,) float64 px); the last sample is the polyline's end when the length is
-    not a whole multiple of ``spacing``. A single point (or a polyline of
-    zero length) gives itself.
+    Central differences inside a stroke, one-sided at its ends; a stroke of
+    one stamp takes its ``fallback`` (N,) angle.
     """
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    if len(pts) < 2:
-        return pts.copy(), np.zeros(len(pts))
-    seg = np.hypot(*np.diff(pts, axis=0).T)
-    arc = np.concatenate(([0.0], np.cumsum(seg)))
-    total = float(arc[-1])
-    if total <= 0.0:
-        return pts[:1].copy(), np.zeros(1)
-    at = np.arange(0.0, total, spacing)
-    if total - at[-1] > 1e-6:
-        at = np.append(at, total)
-    out = np.stack([np.interp(at, arc, pts[:, 0]), np.interp(at, arc, pts[:, 1])], axis=1)
-    return out, at
+    m = len(points)
+    d = np.zeros_like(points)
+    if m > 2:
+        d[1:-1] = points[2:] - points[:-2]
+    first, last = starts[:-1], starts[1:] - 1
+    long = last > first
+    f, e = first[long], last[long]
+    d[f] = points[f + 1] - points[f]
+    d[e] = points[e] - points[e - 1]
+    angles = np.arctan2(d[:, 1], d[:, 0])
+    single = ~long
+    angles[first[single]] = np.asarray(fallback, np.float64)[single]
+    return angles

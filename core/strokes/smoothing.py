@@ -56,23 +56,6 @@ class SmoothedImage:
         bottom = p10 + fu * (p11 - p10)
         return (top + fv * (bottom - top)).astype(np.float32)
 
-    def at(self, x: float, y: float) -> np.ndarray:
-        """(C,) float32 value at one position (px): ``sample`` at one point, in the same arithmetic
-        (positions in float32, weights in float64), on Python floats (a stroke asks once)."""
-        f = self.factor
-        h, w, _ = self.pixels.shape
-        shift, scale = np.float32((f - 1) / 2.0), np.float32(f)
-        u = min(max(float((np.float32(x) - shift) / scale), 0.0), float(w - 1))
-        v = min(max(float((np.float32(y) - shift) / scale), 0.0), float(h - 1))
-        u0, v0 = min(int(u), max(w - 2, 0)), min(int(v), max(h - 2, 0))
-        u1, v1 = u0 + (1 if w > 1 else 0), v0 + (1 if h > 1 else 0)
-        fu, fv = u - u0, v - v0
-        p = self.pixels
-        p00, p01, p10, p11 = p[v0, u0], p[v0, u1], p[v1, u0], p[v1, u1]
-        top = [a + fu * d for a, d in zip(p00.tolist(), (p01 - p00).tolist(), strict=True)]
-        bottom = [a + fu * d for a, d in zip(p10.tolist(), (p11 - p10).tolist(), strict=True)]
-        return np.array([t + fv * (b - t) for t, b in zip(top, bottom, strict=True)], np.float32)
-
 
 def block_mean(image: np.ndarray, factor: int) -> np.ndarray:
     """(ceil(H / f), ceil(W / f), C) float32 means of f x f blocks of an (H, W, C) image (partial edge blocks too)."""

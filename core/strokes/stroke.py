@@ -1,4 +1,4 @@
-"""One paint stroke: bristle colours (Eq. 5), its path, and laying it on the canvas (Eq. 4, §6)."""
+"""Paint strokes: their record, bristle colours (Eq. 5), end and ridge profiles, and solid strokes (ALGORITHM §5, §8)."""
 
 from __future__ import annotations
 
@@ -11,9 +11,6 @@ from ..colour import lab_to_srgb, srgb_to_lab
 from ..params import Params
 from .brush import BrushTip
 from .canvas import Canvas
-from .compositing import track_footprint
-from .path import resample_by_length, tangent_angles
-from .planning import plan_path
 from .smoothing import SmoothedImage, smooth
 
 # A stroke covers as a brush at least this many rows long would: a short tip (small brushes have one or
@@ -86,44 +83,48 @@ def detail_sources(reference: np.ndarray) -> ColourSources:
     return ColourSources(reference, exact, exact, exact, deviation=0.0)
 
 
-def colour_jitter(rng: np.random.Generator, lightness: float, hue: float) -> tuple:
-    """One stroke's random colour change of Eq. 5: (L* offset (), RGB offset (3,) float32).
+def colour_jitter(draws: np.ndarray, lightness: float, hue: float) -> tuple:
+    """N strokes' random colour changes of Eq. 5 from their (N, 4) uniform ``draws`` in [0, 1).
 
-    The lightness offset is 100 U(-lightness, lightness) CIELAB L* units (a*
-    and b* are kept, so hue and chroma stay); when ``hue`` > 0 the RGB offset
+    Returns (L* offsets (N,) float64, RGB offsets (N, 3) float32): the
+    lightness offset is 100 U(-lightness, lightness) CIELAB L* units (a* and
+    b* are kept, so hue and chroma stay); when ``hue`` > 0 the RGB offset
     adds U(-hue, hue) to each channel (hue jitter), else it is 0.
     """
-    shift = 100.0 * rng.uniform(-lightness, lightness)
-    offset = rng.uniform(-hue, hue, 3).astype(np.float32) if hue > 0 else np.zeros(3, np.float32)
+    draws = np.asarray(draws, np.float64).reshape(-1, 4)
+    shift = 100.0 * lightness * (2.0 * draws[:, 0] - 1.0)
+    offset = (hue * (2.0 * draws[:, 1:4] - 1.0)).astype(np.float32)
     return shift, offset
 
 
-def bristle_colours(sources: ColourSources, anchor: tuple, angle: float, tip: BrushTip, alpha: float,
-                    deviation: float, jitter: tuple = (0.0, 0.0)) -> tuple:
-    """Eq. 5: ((B, 3) sRGB colour of every bristle of ``tip``, (3,) anchor colour).
+def bristle_colours(sources: ColourSources, anchors: np.ndarray, angles: np.ndarray, tip: BrushTip, alpha: float,
+                    deviation: float, shift: np.ndarray, offset: np.ndarray, lightness: bool = True) -> tuple:
+    """Eq. 5 for N strokes: ((N, B, 3) sRGB colour of every bristle of ``tip``, (N, 3) anchor colours).
 
-    The brush is centred on ``anchor`` (x, y) and turned to ``angle`` (its
-    along axis). C_anchor is ``sources.anchor`` at the anchor; each bristle
-    samples ``sources.bristles`` under it (bilinear) and
-    C = C_anchor + d, with d = alpha (C_bristle - C_anchor) shortened to at
-    most ``deviation`` (Euclidean RGB), then changed by the stroke's
-    ``jitter`` (``colour_jitter``: an L* offset, then an RGB offset), clipped to [0, 1]. So an anchor on
-    a star or a glint neither tints the stroke nor drags it along as a scratch.
+    Each brush is centred on its anchor (``anchors`` (N, 2) (x, y)) and
+    turned to its angle (``angles`` (N,), its along axis). C_anchor is
+    ``sources.anchor`` at the anchor; each bristle samples
+    ``sources.bristles`` under it (bilinear) and C = C_anchor + d, with
+    d = alpha (C_bristle - C_anchor) shortened to at most ``deviation``
+    (Euclidean RGB), then moved by the stroke's L* offset ``shift`` (N,)
+    (through CIELAB, when ``lightness``) and RGB ``offset`` (N, 3), clipped to
+    [0, 1]. So an anchor on a star or a glint neither tints the stroke nor
+    drags it along as a scratch.
     """
-    c, s = np.cos(angle), np.sin(angle)
-    x = anchor[0] + tip.along * c - tip.across * s
-    y = anchor[1] + tip.along * s + tip.across * c
-    at_anchor = sources.anchor.at(float(anchor[0]), float(anchor[1]))
-    d = np.float32(alpha) * (sources.bristles.sample(x, y) - at_anchor)
-    norm = np.sqrt(np.sum(d * d, axis=1, keepdims=True))
+    anchors = np.asarray(anchors, np.float64).reshape(-1, 2)
+    c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
+    x = anchors[:, 0:1] + tip.along * c - tip.across * s
+    y = anchors[:, 1:2] + tip.along * s + tip.across * c
+    at_anchor = sources.anchor.sample(anchors[:, 0], anchors[:, 1])
+    d = np.float32(alpha) * (sources.bristles.sample(x, y) - at_anchor[:, None, :])
+    norm = np.sqrt(np.sum(d * d, axis=2, keepdims=True))
     d *= np.minimum(np.float32(1.0), np.float32(deviation) / np.maximum(norm, np.float32(1e-12)))
-    shift, offset = jitter
-    mixed = at_anchor + d
-    if shift:
-        lab = srgb_to_lab(mixed)
-        lab[:, 0] += shift
-        mixed = lab_to_srgb(lab)
-    mixed = mixed + offset
+    mixed = at_anchor[:, None, :] + d
+    if lightness:
+        lab = srgb_to_lab(mixed.reshape(-1, 3))
+        lab[:, 0] += np.repeat(shift, d.shape[1])
+        mixed = lab_to_srgb(lab).reshape(d.shape)
+    mixed = mixed + offset[:, None, :]
     return np.clip(mixed, 0.0, 1.0).astype(np.float32), at_anchor
 
 
@@ -133,8 +134,9 @@ def _smoothstep(t: np.ndarray) -> np.ndarray:
     return t * t * (3.0 - 2.0 * t)
 
 
-def end_profile(arc: np.ndarray, width: float, taper: float, buildup: float) -> tuple:
-    """Per-stamp (contact, relief) (each (S,) float32) of a stroke whose stamps sit at arc lengths ``arc`` (px).
+def end_profile(arc: np.ndarray, total: np.ndarray, width: float, taper: float, buildup: float) -> tuple:
+    """Per-stamp (contact, relief) (each (S,) float32) of stamps at arc lengths ``arc`` (S,) px along
+    strokes ``total`` (S,) px long (each stamp's own stroke's length).
 
     The brush lifts off over the last taper x width px (at most half the
     stroke) and touches down over the first half of that (at most a quarter
@@ -143,17 +145,17 @@ def end_profile(arc: np.ndarray, width: float, taper: float, buildup: float) -> 
     taper length before the end, fading to 1 within half a taper length.
     """
     arc = np.asarray(arc, np.float64)
-    total = float(arc[-1]) if len(arc) else 0.0
-    lift = min(taper * width, 0.5 * total)
-    touch = min(0.5 * taper * width, 0.25 * total)
-    contact = np.ones(len(arc))
-    relief = np.ones(len(arc))
-    if lift > 0:
-        to_end = total - arc
-        contact *= LIFT_FLOOR + (1.0 - LIFT_FLOOR) * _smoothstep(to_end / lift)
-        relief += buildup * np.exp(-((to_end / lift - 1.0) / 0.5) ** 2)
-    if touch > 0:
-        contact *= LIFT_FLOOR + (1.0 - LIFT_FLOOR) * _smoothstep(arc / touch)
+    total = np.asarray(total, np.float64)
+    lift = np.minimum(taper * width, 0.5 * total)
+    touch = np.minimum(0.5 * taper * width, 0.25 * total)
+    to_end = total - arc
+    lifting = lift > 0
+    ratio = np.divide(to_end, lift, out=np.ones_like(arc), where=lifting)
+    contact = np.where(lifting, LIFT_FLOOR + (1.0 - LIFT_FLOOR) * _smoothstep(ratio), 1.0)
+    relief = np.where(lifting, 1.0 + buildup * np.exp(-((ratio - 1.0) / 0.5) ** 2), 1.0)
+    touching = touch > 0
+    start = np.divide(arc, touch, out=np.ones_like(arc), where=touching)
+    contact = contact * np.where(touching, LIFT_FLOOR + (1.0 - LIFT_FLOOR) * _smoothstep(start), 1.0)
     return contact.astype(np.float32), relief.astype(np.float32)
 
 
@@ -162,32 +164,6 @@ def ridge_profile(across: np.ndarray, radius: float, ridge: float) -> np.ndarray
     1 in the middle, rising to 1 + ridge at the sides (paint pushed aside by the brush)."""
     t = np.abs(np.asarray(across, np.float64)) / max(radius, 1e-6)
     return (1.0 + ridge * _smoothstep((t - 0.45) / 0.4)).astype(np.float32)
-
-
-def paint_stroke(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchor: tuple, size: int,
-                 layer: int, tip: BrushTip, rng: np.random.Generator, params: Params) -> Stroke:
-    """Plan one stroke from ``anchor`` (x, y) with a brush ``size`` px wide, lay it on ``canvas``, return it.
-
-    With params.renderer == 'lines' the stroke is a solid line instead (``paint_line_stroke``).
-    """
-    if params.renderer == "lines":
-        return paint_line_stroke(canvas, sources, orientation, anchor, size, layer, params)
-    angle = float(orientation[anchor[1], anchor[0]])
-    jitter = colour_jitter(rng, params.perturbation, params.hue_perturbation)
-    deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
-    colours, anchor_colour = bristle_colours(sources, anchor, angle, tip, params.bristle_alpha, deviation, jitter)
-    brush_colour = np.einsum("b,bc->c", tip.intensity, colours) / tip.intensity.sum()
-    plan = plan_path(anchor, size, orientation, canvas.colour, brush_colour, sources.reference, sources.edges,
-                     params)
-    samples, arc = resample_by_length(plan.samples, 1.0)
-    angles = tangent_angles(samples, angle)
-    rows = max(1.0, tip.length)
-    contact, relief = end_profile(arc, size, params.taper, params.lift_buildup)
-    footprint = track_footprint(samples, angles, tip.along, tip.across, tip.intensity, colours, canvas.height.shape,
-                                passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
-                                bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
-    canvas.apply(footprint, params.height_mode, params.height_build)
-    return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), plan.polyline(), anchor_colour)
 
 
 # ---------------------------------------------------------------------------
@@ -305,21 +281,3 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
             angles = np.mod(np.arctan2(step[:, 1], step[:, 0]), np.pi).astype(np.float32)
             top = a >= 0.5
             orientation[rows, cols][top] = angles[segment[top]]
-
-
-def paint_line_stroke(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchor: tuple, size: int,
-                      layer: int, params: Params) -> Stroke:
-    """The Fig. 8c ablation: the paper's path, painted as one solid anti-aliased line of the anchor colour.
-
-    The path is planned exactly as for the bristle brush (``plan_path``) with
-    the anchor colour as the brush colour; the kept curve, thinned to a point
-    every max(1, size / 4) samples (about a quarter of the width apart) plus
-    its end, is drawn by ``solid_stroke`` with radius size / 2 and opacity 1.
-    """
-    colour = sources.anchor.at(float(anchor[0]), float(anchor[1]))
-    plan = plan_path(anchor, size, orientation, canvas.colour, colour, sources.reference, sources.edges, params)
-    kept = plan.samples
-    every = max(1, int(size) // 4)
-    line = kept[np.unique(np.append(np.arange(0, len(kept), every), len(kept) - 1))]
-    solid_stroke(canvas, line, 0.5 * size, colour, 1.0, params.height_mode, params.height_build)
-    return Stroke(layer, (int(anchor[0]), int(anchor[1])), int(size), plan.polyline(), colour.copy())

@@ -1,0 +1,135 @@
+"""Painting in rounds: every stroke of one size in a layer planned at once, then laid in order (ALGORITHM §5, "Speed").
+
+A round's strokes are planned (bristle colours, path, stopping tests)
+against the canvas as it stood when the round began, all together as
+arrays; they are then laid in the round's order, each stroke's Eq. 4
+contributions after the previous one's, so overlaps composite exactly as
+laying them one by one would. ``paint_round(..., one_by_one=True)`` is that
+one-at-a-time reference: each stroke planned alone against the same canvas,
+then laid alone on its whole box. Both give the same bytes.
+"""
+
+from __future__ import annotations
+
+from typing import List
+
+import numpy as np
+
+from ..params import Params
+from .brush import BrushTip
+from .canvas import Canvas
+from .compositing import track_footprints
+from .path import resample_by_length, tangent_angles
+from .planning import PlannedPaths, plan_paths
+from .stroke import (
+    MIN_ROWS,
+    ColourSources,
+    Stroke,
+    bristle_colours,
+    colour_jitter,
+    end_profile,
+    ridge_profile,
+    solid_stroke,
+)
+
+# Strokes laid together at most: bounds the memory of a round's footprints (a few MB per hundred strokes).
+LAY_CHUNK_STROKES = 256
+
+
+def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
+    """Stamps one px apart along N planned paths: (stamps (M, 2), directions (M,), contact (M,), relief (M,), starts (N + 1,))."""
+    stamps, arc, starts = resample_by_length(paths.samples, paths.first, paths.last)
+    directions = tangent_angles(stamps, starts, angles)
+    total = np.repeat(arc[starts[1:] - 1], np.diff(starts))
+    contact, relief = end_profile(arc, total, size, params.taper, params.lift_buildup)
+    return stamps, directions, contact, relief, starts
+
+
+def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
+                layer: int, tip: BrushTip, draws: np.ndarray, params: Params,
+                one_by_one: bool = False) -> List[Stroke]:
+    """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
+
+    draws: (N, 4) uniform numbers of each stroke's own stream (its colour
+    perturbation, ``colour_jitter``). With ``one_by_one`` each stroke is
+    planned and laid alone (the reference of the same rule).
+    """
+    anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
+    if len(anchors) == 0:
+        return []
+    if one_by_one:
+        planned = [plan_round(canvas, sources, orientation, anchors[i:i + 1], size, tip, draws[i:i + 1], params)
+                   for i in range(len(anchors))]
+        for plan in planned:
+            lay_round(canvas, plan, size, tip, params, one_by_one=True)
+        return [stroke for plan in planned for stroke in records(plan, anchors_of(plan), size, layer)]
+    plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
+    for first in range(0, len(anchors), LAY_CHUNK_STROKES):
+        lay_round(canvas, chunk_of(plan, first, first + LAY_CHUNK_STROKES), size, tip, params)
+    return records(plan, anchors, size, layer)
+
+
+def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
+               tip: BrushTip, draws: np.ndarray, params: Params) -> dict:
+    """Everything N strokes need to be laid, planned against ``canvas`` as it is now.
+
+    Returns {"anchors" (N, 2), "colours" (N, B, 3) bristle colours,
+    "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}.
+    """
+    angles = orientation[anchors[:, 1], anchors[:, 0]].astype(np.float64)
+    shift, offset = colour_jitter(draws, params.perturbation, params.hue_perturbation)
+    deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
+    colours, anchor_colours = bristle_colours(sources, anchors, angles, tip, params.bristle_alpha, deviation, shift,
+                                              offset, lightness=params.perturbation > 0)
+    if params.renderer == "lines":
+        brush = anchor_colours
+    else:
+        brush = np.einsum("b,nbc->nc", tip.intensity, colours) / tip.intensity.sum()
+    paths = plan_paths(anchors, size, orientation, canvas.colour, brush, sources.reference, sources.edges, params)
+    return {"anchors": anchors, "colours": colours, "anchor_colours": anchor_colours, "paths": paths,
+            "angles": angles}
+
+
+def anchors_of(plan: dict) -> np.ndarray:
+    """(N, 2) the anchors a plan was made for."""
+    return plan["anchors"]
+
+
+def chunk_of(plan: dict, first: int, stop: int) -> dict:
+    """The plan of strokes first .. stop - 1 of ``plan``."""
+    paths = plan["paths"]
+    part = slice(first, stop)
+    return {"anchors": plan["anchors"][part], "colours": plan["colours"][part],
+            "anchor_colours": plan["anchor_colours"][part], "angles": plan["angles"][part],
+            "paths": PlannedPaths(paths.samples[part], paths.first[part], paths.last[part], paths.per_segment)}
+
+
+def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params, one_by_one: bool = False) -> None:
+    """Lay a plan's strokes on ``canvas`` in order (each alone on its box when ``one_by_one``)."""
+    paths = plan["paths"]
+    if params.renderer == "lines":
+        every = max(1, int(size) // 4)
+        for i in range(len(paths.first)):
+            kept = paths.samples[i, paths.first[i]:paths.last[i] + 1]
+            line = kept[np.unique(np.append(np.arange(0, len(kept), every), len(kept) - 1))]
+            solid_stroke(canvas, line, 0.5 * size, plan["anchor_colours"][i], 1.0, params.height_mode,
+                         params.height_build)
+        return
+    stamps, directions, contact, relief, starts = stamp_paths(paths, plan["angles"], size, params)
+    rows = max(1.0, tip.length)
+    footprints = track_footprints(stamps, directions, starts, tip, plan["colours"], canvas.height.shape,
+                                  passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
+                                  bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height),
+                                  rows=rows)
+    if one_by_one:
+        for i in range(len(starts) - 1):
+            canvas.lay_one(footprints, i, params.height_mode, params.height_build)
+    else:
+        canvas.lay(footprints, params.height_mode, params.height_build)
+
+
+def records(plan: dict, anchors: np.ndarray, size: int, layer: int) -> List[Stroke]:
+    """The ``Stroke`` records of a plan's strokes, in order."""
+    paths = plan["paths"]
+    return [Stroke(layer, (int(x), int(y)), int(size), paths.polyline(i), plan["anchor_colours"][i])
+            for i, (x, y) in enumerate(anchors.tolist())]
