@@ -322,8 +322,10 @@ def test_folded_strokes_with_lifting_ends_match_stamping_on_random_strokes(flat,
 
 
 @pytest.mark.parametrize("rows", [1, 3, 8, 20])
-def test_fold_tables_interpolate_within_a_level_of_the_exact_fold(rows):
-    # every kind of run (whole brush, entering, leaving, an inner run) at random contacts
+def test_fold_tables_interpolate_within_a_level_of_the_exact_fold(rows, monkeypatch):
+    # every kind of run (whole brush, entering, leaving, an inner run) at random contacts, on enough track
+    # samples that track_folds takes its tables (more end samples than twice its contact levels)
+    from core.strokes import folding
     from core.strokes.folding import LEVELS_PER_CONTACT, fold_rows, track_folds
 
     rng = np.random.default_rng(rows)
@@ -333,10 +335,22 @@ def test_fold_tables_interpolate_within_a_level_of_the_exact_fold(rows):
     grid_colour = rng.uniform(0.0, 1.0, (rows, width, 3)).astype(np.float32)
     n_samples = 40 if rows < 20 else 12                                 # 12 < 20 rows: inner runs too
     k = np.arange(n_samples + rows - 1)
-    first = np.maximum(0, rows - 1 - k)
-    last = np.minimum(rows - 1, n_samples + rows - 2 - k)
-    touch = np.where(rng.uniform(size=len(k)) < 0.3, 1.0, rng.uniform(0.09, 1.0, len(k)))
+    tracks = 4                                                          # four strokes' tracks side by side
+    first = np.tile(np.maximum(0, rows - 1 - k), tracks)
+    last = np.tile(np.minimum(rows - 1, n_samples + rows - 2 - k), tracks)
+    touch = np.where(rng.uniform(size=first.size) < 0.3, 1.0, rng.uniform(0.09, 1.0, first.size))
+    ends = ~((first == 0) & (last == rows - 1)) | (touch < 1.0)
+    assert ends.sum() > 2 * (1 + math.ceil((1.0 - touch[ends].min()) * LEVELS_PER_CONTACT))
+
+    tabled, fold_tables = [], folding.fold_tables
+
+    def recorded(levels, *args):
+        tabled.append(len(levels))
+        return fold_tables(levels, *args)
+
+    monkeypatch.setattr(folding, "fold_tables", recorded)
     colour, log_total, laid = track_folds(first, last, touch, grid, grid_colour, 1.5)
+    assert len(tabled) == 1 and tabled[0] > 2                          # the tables, at several contact levels
     present = (np.arange(rows)[None, :] >= first[:, None]) & (np.arange(rows)[None, :] <= last[:, None])
     paint, exact_log, exact_laid = fold_rows((touch[:, None] * present).astype(np.float32), grid, grid_colour, 1.5)
     alpha = -np.expm1(exact_log)
