@@ -99,6 +99,7 @@ demo: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) bench/analysis.py
+	$(PY) bench/solve.py
 	$(PY) bench/paint.py
 	$(PY) bench/strokes.py
 	$(PY) bench/hertzmann.py
@@ -111,12 +112,13 @@ extension: $(STAMP) $(WHEELS)
 	@for zip in $(DIST)/paint_relief-$(VERSION)-*.zip; do \
 	  echo "validate $$zip"; $(PY) $(BLENDER_EXT) validate "$$zip" || exit 1; done
 
-# wheels/<dist>-<version>-<python>-<abi>-<platform>[.<platform>...].whl: one pip download for its first platform tag.
+# wheels/<dist>-<version>-<python>-<abi>-<platform>[.<platform>...].whl: one pip download for its first platform tag
+# (a pure-Python wheel, platform 'any', is downloaded as it is).
 wheels/%.whl:
 	@mkdir -p wheels
 	$(PY) -m pip download --quiet --disable-pip-version-check --only-binary=:all: --no-deps \
-	  --python-version $(patsubst cp3%,3.%,$(word 3,$(subst -, ,$*))) \
-	  --platform $(firstword $(subst ., ,$(lastword $(subst -, ,$*)))) --dest wheels \
+	  $(if $(filter any,$(lastword $(subst -, ,$*))),,--python-version $(patsubst cp3%,3.%,$(word 3,$(subst -, ,$*))) \
+	  --platform $(firstword $(subst ., ,$(lastword $(subst -, ,$*))))) --dest wheels \
 	  $(word 1,$(subst -, ,$*))==$(word 2,$(subst -, ,$*))
 	@test -f $@ || { echo "pip did not download $@"; exit 1; }
 

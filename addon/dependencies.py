@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The painter's libraries inside Blender, and the one check that says what is missing.
 
-``core`` imports NumPy, SciPy and OpenImageIO. NumPy comes with every
-Blender; SciPy comes from the extension's wheels. OpenImageIO is taken from
+``core`` imports NumPy, SciPy, threadpoolctl and OpenImageIO. NumPy comes
+with every Blender; SciPy and threadpoolctl (pure Python, one wheel for every
+Blender) come from the extension's wheels. OpenImageIO is taken from
 Blender itself wherever Blender has its Python binding (Blender 4.4 and
 later; in the ``bpy`` module it is exposed by
 ``bpy.utils.expose_bundled_modules()``), so the painter reads and writes
@@ -43,6 +44,7 @@ OPENIMAGEIO = "OpenImageIO"
 REQUIRED = (
     ("numpy", "numpy", "arrays", "Blender's own Python"),
     ("scipy", "scipy.ndimage", "image filters", "the extension's SciPy wheel"),
+    ("threadpoolctl", "threadpoolctl", "BLAS thread limits", "the extension's threadpoolctl wheel"),
     (OPENIMAGEIO, OPENIMAGEIO, "reading and writing images", None),
 )
 # The extension's package (``bl_ext.<repository>.paint_relief``) and its folder.

@@ -1,13 +1,23 @@
-"""Benchmark of the whole `core paint` command at default settings.
+"""Benchmark of the whole `core paint` command at default settings, on a detailed and a smooth photograph.
 
-For a bundled photograph resized to each size, runs `python -m core paint`
-as a user would (imports, analysis, strokes, writing) several times and
-prints the median and best wall-clock seconds, the seconds per megapixel,
-the stroke count, the peak resident memory of the process and the size of
-the painted folder, then the median split over the stages of report.json.
+For each photograph of sample_scenes/ (by default the detailed Hubble deep
+field, a photograph from outside the painter's own samples, and the smooth
+coffee cup; the astronaut is the most detailed of the others), resized
+bilinearly to each size (the photographs are 0.24-0.87 MP, so larger sizes
+are upsampled), runs
+`python -m core paint` as a user would (imports, reading, analysis,
+strokes, writing) several times and prints the best and median wall-clock
+seconds, the seconds per megapixel, the stroke count, the peak resident
+memory of the child process (ru_maxrss), the size of the painted folder,
+and the median seconds of each stage of report.json ("seconds"; "other" is
+the median wall time outside them: start-up, imports, reading).
+--markdown prints the same as rows of the README's speed table.
 With --widths it paints each size once more in this process and splits the
 stroke stage by brush width (strokes, seconds, milliseconds per stroke).
-Usage: python bench/paint.py [--runs N] [--sizes 1,4,16] [--widths]
+How detailed each is shows in its stroke count: `--runs 1 --sizes 0.25
+--photos astronaut,hubble,coffee` paints them with 10529, 8853 and 7793
+strokes at this commit.
+Usage: python bench/paint.py [--runs N] [--sizes 1,4,16] [--photos hubble,coffee] [--markdown] [--widths]
 """
 
 from __future__ import annotations
@@ -67,40 +77,82 @@ def folder_mib(folder: Path) -> float:
     return sum(p.stat().st_size for p in folder.iterdir() if p.is_file()) / 2**20
 
 
+def measure(source: Path, mp: float, runs: int, tmp: Path) -> dict:
+    """``runs`` `core paint` commands on ``source`` resized to about ``mp`` megapixels.
+
+    Returns {"pixels": (H, W), "image": the resized PNG, "strokes": count,
+    "walls": [s], "peak": MiB (the largest run's), "folder": MiB,
+    "stages": {stage: median s}}.
+    """
+    image = tmp / f"{source.stem}_{mp:g}mp.png"
+    pixels = photo(mp, source)
+    io.write_png(image, pixels)
+    walls, peaks, stages = [], [], {}
+    for i in range(runs):
+        out = tmp / f"out_{source.stem}_{mp:g}_{i}"
+        seconds, peak, report = run_command(image, out)
+        walls.append(seconds)
+        peaks.append(peak)
+        for name, value in report["seconds"].items():
+            stages.setdefault(name, []).append(value)
+    split = {name: statistics.median(v) for name, v in stages.items()}
+    split["other"] = statistics.median(walls) - sum(split.values())
+    return {"pixels": pixels.shape[:2], "image": image, "strokes": report["strokes"], "walls": walls,
+            "peak": max(peaks), "folder": folder_mib(out), "stages": split}
+
+
+ANALYSIS = ("reference", "importance", "partition", "orientation")
+
+
+def markdown_row(name: str, mp: float, m: dict) -> str:
+    """One row of the README's speed table; analysis is the sum of its four stages."""
+    (h, w), st = m["pixels"], m["stages"]
+    analysis = sum(st.get(s, 0.0) for s in ANALYSIS)
+    rest = ", ".join(f"{k} {v:.2f}" for k, v in st.items() if k not in ANALYSIS)
+    return (f"| {name} {mp:g} MP ({w}×{h}) | {m['strokes']} | {min(m['walls']):.2f} | "
+            f"{statistics.median(m['walls']):.2f} | {m['peak']:.0f} MiB | {m['folder']:.1f} MiB | "
+            f"analysis {analysis:.2f}, {rest} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--sizes", default="1,4,16", help="megapixels, comma-separated")
+    parser.add_argument("--photos", default="hubble,coffee",
+                        help="photographs of sample_scenes/ by name, comma-separated (also astronaut, chelsea)")
+    parser.add_argument("--markdown", action="store_true", help="print rows of the README's speed table")
     parser.add_argument("--widths", action="store_true", help="split the stroke stage by brush width")
     args = parser.parse_args()
-    print(f"{'MP':>5} {'size':>11} {'strokes':>8} {'median s':>9} {'best s':>7} {'s/MP':>6} {'peak MiB':>9} "
-          f"{'MiB out':>8} {'MiB/MP':>7}  stages (median s)")
+    sources = []
+    for name in args.photos.split(","):
+        found = sorted((ROOT / "sample_scenes").glob(f"{name}.*g"))
+        if not found:
+            raise SystemExit(f"no photograph named {name} in {ROOT / 'sample_scenes'}")
+        sources.append(found[0])
+    if args.markdown:
+        print("| photograph | strokes | best s | median s | peak memory | painted folder | stages (median s) |\n"
+              "| --- | ---: | ---: | ---: | ---: | ---: | --- |")
+    else:
+        print(f"{'photo':<10} {'MP':>5} {'size':>11} {'strokes':>7} {'best s':>7} {'median s':>8} {'s/MP':>6} "
+              f"{'peak MiB':>8} {'MiB out':>7} {'MiB/MP':>6}  stages (median s)")
     with tempfile.TemporaryDirectory() as tmp:
-        for mp in (float(s) for s in args.sizes.split(",")):
-            image = Path(tmp) / f"photo_{mp:g}mp.png"
-            pixels = photo(mp)
-            io.write_png(image, pixels)
-            h, w = pixels.shape[:2]
-            del pixels
-            walls, peaks, stages = [], [], {}
-            for i in range(args.runs):
-                out = Path(tmp) / f"out_{mp:g}_{i}"
-                seconds, peak, report = run_command(image, out)
-                walls.append(seconds)
-                peaks.append(peak)
-                for name, value in report["seconds"].items():
-                    stages.setdefault(name, []).append(value)
-            size = folder_mib(out)
-            mpx = h * w / 1e6
-            split = " ".join(f"{name} {statistics.median(v):.2f}" for name, v in stages.items())
-            print(f"{mpx:5.2f} {w:>5}x{h:<5} {report['strokes']:>8} {statistics.median(walls):>9.2f} "
-                  f"{min(walls):>7.2f} {statistics.median(walls) / mpx:>6.2f} {max(peaks):>9.0f} {size:>8.1f} "
-                  f"{size / mpx:>7.1f}  {split}", flush=True)
-            if args.widths:
-                spent = strokes_by_width(io.read_image(image))
-                print("      by width: " + ", ".join(
-                    f"{width} px {n} strokes {s:.2f} s ({1e3 * s / n:.2f} ms each)"
-                    for width, (n, s) in sorted(spent.items())), flush=True)
+        for source in sources:
+            for mp in (float(s) for s in args.sizes.split(",")):
+                m = measure(source, mp, args.runs, Path(tmp))
+                (h, w), median = m["pixels"], statistics.median(m["walls"])
+                mpx = h * w / 1e6
+                if args.markdown:
+                    print(markdown_row(source.stem, mp, m), flush=True)
+                else:
+                    split = " ".join(f"{k} {v:.2f}" for k, v in m["stages"].items())
+                    print(f"{source.stem:<10} {mpx:5.2f} {w:>5}x{h:<5} {m['strokes']:>7} {min(m['walls']):>7.2f} "
+                          f"{median:>8.2f} {median / mpx:>6.2f} {m['peak']:>8.0f} {m['folder']:>7.1f} "
+                          f"{m['folder'] / mpx:>6.1f}  {split}", flush=True)
+                if args.widths:
+                    spent = strokes_by_width(io.read_image(m["image"]))
+                    print("      by width: " + ", ".join(
+                        f"{width} px {n} strokes {s:.2f} s ({1e3 * s / n:.2f} ms each)"
+                        for width, (n, s) in sorted(spent.items())), flush=True)
 
 
 if __name__ == "__main__":

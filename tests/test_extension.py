@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The extension package: `make extension` builds one valid zip per platform
-(the extension plus that platform's SciPy wheels for Python 3.11 and 3.13 and its OpenImageIO wheel for
-Blender 4.2's Python 3.11) that Blender installs,
+(the extension plus that platform's SciPy wheels for Python 3.11 and 3.13, its OpenImageIO wheel for
+Blender 4.2's Python 3.11 and the pure-Python threadpoolctl wheel) that Blender installs,
 enables, disables and enables again.
 
 The build runs the Makefile's own `extension` target on a copy of the
@@ -46,6 +46,8 @@ DECOYS = (
 # The wheels each Python needs: SciPy everywhere; OpenImageIO only on Python 3.11, for Blender 4.2 LTS, which
 # has no OpenImageIO binding of its own (4.4 and later bundle one).
 PYTHON_TAGS = {"cp311": ("openimageio", "scipy"), "cp313": ("scipy",)}
+# The pure-Python wheel every package holds, whatever its platform.
+PURE_WHEEL = "./wheels/threadpoolctl-3.7.0-py3-none-any.whl"
 # Platforms where no Blender runs that Python: Blender 4.5 LTS is the last for Intel Macs.
 NO_BLENDER = {("macos-x64", "cp313")}
 # Top-level entries of the repository that belong in the package.
@@ -136,7 +138,9 @@ def test_manifest_is_complete():
     assert len(manifest["tagline"]) < 64 and not manifest["tagline"].endswith(".")
     assert manifest["permissions"]["files"] and not manifest["permissions"]["files"].endswith(".")
     wheels = manifest["wheels"]
-    assert all(w.startswith(("./wheels/scipy-", "./wheels/openimageio-")) and w.endswith(".whl") for w in wheels), wheels
+    assert all(w.startswith(("./wheels/scipy-", "./wheels/openimageio-", "./wheels/threadpoolctl-"))
+               and w.endswith(".whl") for w in wheels), wheels
+    assert [w for w in wheels if w.endswith("-none-any.whl")] == [PURE_WHEEL], "one pure-Python wheel for every Blender"
     assert not any("numpy" in w for w in wheels), "numpy comes with Blender and must not be bundled"
     assert set(PYTHON_TAGS) == {"cp311", "cp313"}, "Blender 4.2 to 5.0 ship Python 3.11, 5.1 and later 3.13"
     for platform_name in manifest["platforms"]:
@@ -152,9 +156,11 @@ def test_manifest_is_complete():
 
 
 def _for_platform(wheel, platform_name):
-    """True when the wheel file is for Blender's platform name, e.g. 'linux-x64'."""
+    """True when the wheel file is for Blender's platform name, e.g. 'linux-x64' (a pure-Python wheel is for all)."""
     system, machine = platform_name.split("-")
     tag = wheel.rsplit("-", 1)[-1]
+    if tag == "any.whl":
+        return True
     arch = {"x64": ("x86_64", "amd64"), "arm64": ("arm64", "aarch64")}[machine]
     prefix = {"linux": "manylinux", "macos": "macosx", "windows": "win"}[system]
     return tag.startswith(prefix) and tag[:-len(".whl")].endswith(arch)

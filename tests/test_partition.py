@@ -8,11 +8,10 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from oracles import best_cut, cut_costs
 
 from core.analysis.partition import (
     DEFAULT_DELTA,
-    best_cut,
-    cut_costs,
     detail_energy,
     detail_threshold,
     nearest_size,

@@ -21,6 +21,7 @@ from typing import Tuple
 import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
+from threadpoolctl import threadpool_limits
 
 _PI32 = np.float32(math.pi)
 _TINY = 1e-12
@@ -188,52 +189,30 @@ def _pairwise(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.hypot(dy, dx)
 
 
-def batched_solve(lhs: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Solve lhs x = rhs for a stack of small systems: (c, n, n), (c, n, d) -> (c, n, d) float64.
-
-    Gaussian elimination with partial pivoting, vectorised over the stack in
-    plain NumPy arithmetic. np.linalg.solve hands every small system to
-    LAPACK, whose BLAS threads spin against each other on a busy machine
-    (seconds instead of a tenth of one at 1 megapixel); this costs the same
-    on one core and uses no BLAS.
-    """
-    a = np.concatenate([np.array(lhs, dtype=np.float64), np.array(rhs, dtype=np.float64)], axis=2)
-    c, n = a.shape[0], a.shape[1]
-    batch = np.arange(c)
-    for j in range(n):
-        pivot = j + np.argmax(np.abs(a[:, j:, j]), axis=1)
-        swap = pivot != j
-        if swap.any():
-            rows = a[batch[swap], pivot[swap]].copy()
-            a[batch[swap], pivot[swap]] = a[batch[swap], j]
-            a[batch[swap], j] = rows
-        top = a[:, j, j]
-        safe = np.where(top == 0.0, 1.0, top)
-        a[:, j, j:] /= safe[:, None]
-        factors = a[:, j + 1:, j].copy()
-        a[:, j + 1:, j:] -= factors[:, :, None] * a[:, j, None, j:]
-    x = a[:, :, n:]
-    for j in range(n - 1, 0, -1):                                     # back substitution (unit diagonal)
-        x[:, :j] -= a[:, :j, j, None] * x[:, j, None, :]
-    return x
-
-
 def _solve_local(pts: np.ndarray, val: np.ndarray, sets: np.ndarray, smoothing: float) -> np.ndarray:
-    """Coefficients (c, k+1, d) of the interpolant −r + constant on each neighbour set (c, k)."""
+    """Coefficients (c, k+1, d) float64 of the interpolant −r + constant on each neighbour set (c, k).
+
+    pts (n, 2) and val (n, d) float64; one (k+1) × (k+1) system per set, solved
+    by np.linalg.solve a chunk of sets at a time. BLAS is held to one thread
+    while it runs: the OpenBLAS of NumPy 1.x (Blender 4.2 to 5.0) threads every
+    33 × 33 solve, and on a busy machine its threads spin against each other
+    (bench/solve.py shows both).
+    """
     c, k = sets.shape
     coeffs = np.empty((c, k + 1, val.shape[1]))
     eye = smoothing * np.eye(k)
     chunk = max(1, _CHUNK * 1024 // ((k + 1) ** 2))
-    for start in range(0, c, chunk):
-        s = sets[start:start + chunk]
-        p = pts[s]                                                    # (c, k, 2)
-        lhs = np.zeros((s.shape[0], k + 1, k + 1))
-        lhs[:, :k, :k] = eye - _pairwise(p, p)
-        lhs[:, :k, k] = 1.0
-        lhs[:, k, :k] = 1.0
-        rhs = np.zeros((s.shape[0], k + 1, val.shape[1]))
-        rhs[:, :k] = val[s]
-        coeffs[start:start + chunk] = batched_solve(lhs, rhs)
+    with threadpool_limits(limits=1, user_api="blas"):
+        for start in range(0, c, chunk):
+            s = sets[start:start + chunk]
+            p = pts[s]                                                # (c, k, 2)
+            lhs = np.zeros((s.shape[0], k + 1, k + 1))
+            lhs[:, :k, :k] = eye - _pairwise(p, p)
+            lhs[:, :k, k] = 1.0
+            lhs[:, k, :k] = 1.0
+            rhs = np.zeros((s.shape[0], k + 1, val.shape[1]))
+            rhs[:, :k] = val[s]
+            coeffs[start:start + chunk] = np.linalg.solve(lhs, rhs)
     return coeffs
 
 

@@ -35,7 +35,7 @@ Only numpy is used; nothing here imports bpy.
 from __future__ import annotations
 
 import math
-from typing import Iterable, Optional, Sequence, Tuple
+from typing import Iterable, Sequence, Tuple
 
 import numpy as np
 
@@ -44,8 +44,6 @@ from ..errors import InputError, ParameterError
 __all__ = [
     "summed_area_table",
     "rect_sums",
-    "cut_costs",
-    "best_cut",
     "partition",
     "nearest_size",
     "detail_threshold",
@@ -104,8 +102,9 @@ def _eq2(s1: np.ndarray, a1: np.ndarray, s2: np.ndarray, a2: np.ndarray,
          delta: float, gamma: float) -> np.ndarray:
     """Eq. 2, elementwise, from the halves' energy sums s1, s2 and areas a1, a2 (> 0).
 
-    Shared by the per-grid reference (:func:`cut_costs`) and the
-    generation-vectorised :func:`partition` so both produce identical floats.
+    Shared by the generation-vectorised :func:`partition` and the tests'
+    per-grid reference (``cut_costs`` in tests/oracles.py), so both produce
+    identical floats.
     Returns float64 costs, each >= 0 (>= 1 in the area factor; the energy factor
     is in (0, 1] for non-negative energy).
     """
@@ -120,14 +119,6 @@ def _eq2(s1: np.ndarray, a1: np.ndarray, s2: np.ndarray, a2: np.ndarray,
     return energy_ratio * np.power(area_ratio, gamma)
 
 
-def _check_rect(sat: np.ndarray, rect) -> Tuple[int, int, int, int]:
-    x0, y0, x1, y1 = (int(v) for v in rect)
-    h, w = sat.shape[0] - 1, sat.shape[1] - 1
-    if not (0 <= x0 <= x1 <= w and 0 <= y0 <= y1 <= h):
-        raise ParameterError(f"The rectangle {(x0, y0, x1, y1)} does not lie inside the {w}x{h} canvas.")
-    return x0, y0, x1, y1
-
-
 def _check_eq2_params(min_side, delta: float, gamma: float) -> None:
     if int(min_side) < 1:
         raise ParameterError(f"The smallest stroke size must be at least 1 pixel, got {min_side}.")
@@ -135,68 +126,6 @@ def _check_eq2_params(min_side, delta: float, gamma: float) -> None:
         raise ParameterError(f"The partition delta must be positive, got {delta}.")
     if not (gamma >= 0 and math.isfinite(gamma)):
         raise ParameterError(f"The partition gamma must not be negative, got {gamma}.")
-
-
-# ---------------------------------------------------------------------------
-# one grid: the simple reference
-
-
-def cut_costs(sat: np.ndarray, rect, min_side: int, delta: float = DEFAULT_DELTA,
-              gamma: float = 1.0) -> Tuple[int, np.ndarray, np.ndarray]:
-    """Eq. 2 for every admissible cut of one grid, in one vectorised expression.
-
-    sat: float64 (H + 1, W + 1) summed-area table of the [0, 1] energy.
-    rect: (x0, y0, x1, y1) ints, half-open, inside the canvas.
-    min_side: smallest stroke size in px (>= 1); both halves keep at least
-        this many pixels along the cut axis.
-    delta: δ of Eq. 2 on the energy's scale (> 0); gamma: γ (>= 0).
-
-    Returns ``(axis, positions, costs)``:
-      * axis: 1 when the cut is a vertical line at a column (width >= height;
-        positions are x coordinates, numpy axis 1 of the image), 0 when it is
-        a horizontal line at a row (positions are y coordinates);
-      * positions: int64 (K,) ABSOLUTE cut coordinates ``x0 + i`` (or
-        ``y0 + i``), increasing, for ``i = min_side .. length - min_side``;
-      * costs: float64 (K,) Eq. 2 cost of each position (dimensionless, > 0).
-    K = 0 (empty arrays) when the longer side is shorter than ``2 * min_side``.
-    """
-    sat = np.asarray(sat, dtype=np.float64)
-    _check_eq2_params(min_side, delta, gamma)
-    min_side = int(min_side)
-    x0, y0, x1, y1 = _check_rect(sat, rect)
-    w, h = x1 - x0, y1 - y0
-    if w >= h:
-        axis, start, length = 1, x0, w
-    else:
-        axis, start, length = 0, y0, h
-    if length < 2 * min_side:
-        return axis, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.float64)
-    pos = np.arange(start + min_side, start + length - min_side + 1, dtype=np.int64)
-    if axis == 1:
-        s1 = rect_sums(sat, x0, y0, pos, y1)
-        s2 = rect_sums(sat, pos, y0, x1, y1)
-        a1 = (pos - x0) * h
-        a2 = (x1 - pos) * h
-    else:
-        s1 = rect_sums(sat, x0, y0, x1, pos)
-        s2 = rect_sums(sat, x0, pos, x1, y1)
-        a1 = (pos - y0) * w
-        a2 = (y1 - pos) * w
-    return axis, pos, _eq2(s1, a1, s2, a2, float(delta), float(gamma))
-
-
-def best_cut(sat: np.ndarray, rect, min_side: int, delta: float = DEFAULT_DELTA,
-             gamma: float = 1.0) -> Optional[int]:
-    """Absolute coordinate of the cheapest admissible cut of one grid, or None.
-
-    Same arguments as :func:`cut_costs`. The result is a column (x) when the
-    grid's width >= its height, else a row (y). Ties go to the smallest
-    position. None when no admissible cut exists (longer side < 2·min_side).
-    """
-    _, pos, costs = cut_costs(sat, rect, min_side, delta, gamma)
-    if pos.size == 0:
-        return None
-    return int(pos[int(np.argmin(costs))])
 
 
 # ---------------------------------------------------------------------------
@@ -233,8 +162,9 @@ def partition(energy: np.ndarray, sizes: Sequence[float], detail_threshold: floa
     Rules, in order, for each grid: area > max_area → must split;
     area < min_area → never split; total energy ≤ T_e → stop; otherwise
     split. A grid that should split but has no admissible cut (its longer side
-    < 2·min_side) stays as it is. The cut of a grid is exactly
-    :func:`best_cut` of that grid.
+    < 2·min_side) stays as it is. The cut of a grid is exactly the
+    cheapest admissible position by Eq. 2, ties to the smallest (the tests
+    hold it to the one-grid reference ``best_cut`` in tests/oracles.py).
 
     Returns int32 (N, 4) rows (x0, y0, x1, y1), half-open, non-empty, tiling
     the canvas exactly (every pixel in exactly one grid).
@@ -251,7 +181,8 @@ def partition(energy: np.ndarray, sizes: Sequence[float], detail_threshold: floa
     (np.repeat with cumulative offsets), every Eq. 2 cost is computed in one
     expression from the SAT, and each grid's first minimum is taken with
     np.minimum.reduceat. The costs are computed by the same elementwise code
-    as :func:`cut_costs`, so the choice is bit-identical to :func:`best_cut`.
+    (:func:`_eq2`) as the tests' one-grid reference, so the choice is
+    bit-identical to it.
     """
     e = np.asarray(energy)
     if e.ndim != 2:

@@ -1,0 +1,84 @@
+"""Reference implementations that only the tests use, to hold the production code to.
+
+cut_costs and best_cut: Eq. 2 for one grid at a time (ALGORITHM §2), the
+simple reference that core.analysis.partition.partition, which cuts a whole
+generation of grids at once, must agree with bit for bit. Rectangles,
+summed-area tables and cut geometry follow the conventions of
+core/analysis/partition.py.
+"""
+
+from __future__ import annotations
+
+from typing import Optional, Tuple
+
+import numpy as np
+
+from core.analysis.partition import DEFAULT_DELTA, _check_eq2_params, _eq2, rect_sums
+from core.errors import ParameterError
+
+
+def _check_rect(sat: np.ndarray, rect) -> Tuple[int, int, int, int]:
+    """(x0, y0, x1, y1) as ints when the half-open rectangle lies inside the SAT's (H, W) canvas; else ParameterError."""
+    x0, y0, x1, y1 = (int(v) for v in rect)
+    h, w = sat.shape[0] - 1, sat.shape[1] - 1
+    if not (0 <= x0 <= x1 <= w and 0 <= y0 <= y1 <= h):
+        raise ParameterError(f"The rectangle {(x0, y0, x1, y1)} does not lie inside the {w}x{h} canvas.")
+    return x0, y0, x1, y1
+
+
+def cut_costs(sat: np.ndarray, rect, min_side: int, delta: float = DEFAULT_DELTA,
+              gamma: float = 1.0) -> Tuple[int, np.ndarray, np.ndarray]:
+    """Eq. 2 for every admissible cut of one grid, in one vectorised expression.
+
+    sat: float64 (H + 1, W + 1) summed-area table of the [0, 1] energy.
+    rect: (x0, y0, x1, y1) ints, half-open, inside the canvas.
+    min_side: smallest stroke size in px (>= 1); both halves keep at least
+        this many pixels along the cut axis.
+    delta: δ of Eq. 2 on the energy's scale (> 0); gamma: γ (>= 0).
+
+    Returns ``(axis, positions, costs)``:
+      * axis: 1 when the cut is a vertical line at a column (width >= height;
+        positions are x coordinates, numpy axis 1 of the image), 0 when it is
+        a horizontal line at a row (positions are y coordinates);
+      * positions: int64 (K,) ABSOLUTE cut coordinates ``x0 + i`` (or
+        ``y0 + i``), increasing, for ``i = min_side .. length - min_side``;
+      * costs: float64 (K,) Eq. 2 cost of each position (dimensionless, > 0).
+    K = 0 (empty arrays) when the longer side is shorter than ``2 * min_side``.
+    """
+    sat = np.asarray(sat, dtype=np.float64)
+    _check_eq2_params(min_side, delta, gamma)
+    min_side = int(min_side)
+    x0, y0, x1, y1 = _check_rect(sat, rect)
+    w, h = x1 - x0, y1 - y0
+    if w >= h:
+        axis, start, length = 1, x0, w
+    else:
+        axis, start, length = 0, y0, h
+    if length < 2 * min_side:
+        return axis, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.float64)
+    pos = np.arange(start + min_side, start + length - min_side + 1, dtype=np.int64)
+    if axis == 1:
+        s1 = rect_sums(sat, x0, y0, pos, y1)
+        s2 = rect_sums(sat, pos, y0, x1, y1)
+        a1 = (pos - x0) * h
+        a2 = (x1 - pos) * h
+    else:
+        s1 = rect_sums(sat, x0, y0, x1, pos)
+        s2 = rect_sums(sat, x0, pos, x1, y1)
+        a1 = (pos - y0) * w
+        a2 = (y1 - pos) * w
+    return axis, pos, _eq2(s1, a1, s2, a2, float(delta), float(gamma))
+
+
+def best_cut(sat: np.ndarray, rect, min_side: int, delta: float = DEFAULT_DELTA,
+             gamma: float = 1.0) -> Optional[int]:
+    """Absolute coordinate of the cheapest admissible cut of one grid, or None.
+
+    Same arguments as :func:`cut_costs`. The result is a column (x) when the
+    grid's width >= its height, else a row (y). Ties go to the smallest
+    position. None when no admissible cut exists (longer side < 2·min_side).
+    """
+    _, pos, costs = cut_costs(sat, rect, min_side, delta, gamma)
+    if pos.size == 0:
+        return None
+    return int(pos[int(np.argmin(costs))])
