@@ -14,9 +14,8 @@ the median wall time outside them: start-up, imports, reading).
 --markdown prints the same as rows of the README's speed table.
 With --widths it paints each size once more in this process and splits the
 stroke stage by brush width (strokes, seconds, milliseconds per stroke).
-How detailed each is shows in its stroke count: `--runs 1 --sizes 0.25
---photos astronaut,hubble,coffee` paints them with 10529, 8853 and 7793
-strokes at this commit.
+How detailed each is shows in its stroke count (`--runs 1 --sizes 0.25
+--photos astronaut,hubble,coffee`).
 Usage: python bench/paint.py [--runs N] [--sizes 1,4,16] [--photos hubble,coffee] [--markdown] [--widths]
 """
 
@@ -55,20 +54,20 @@ def strokes_by_width(pixels) -> dict:
     from core.params import Params
 
     spent = {}
-    lay = huang11.paint_stroke
+    lay = huang11.paint_round
 
-    def timed(canvas, sources, orientation, anchor, size, *rest):
+    def timed(canvas, sources, orientation, anchors, size, *rest):
         start = time.perf_counter()
-        stroke = lay(canvas, sources, orientation, anchor, size, *rest)
+        strokes = lay(canvas, sources, orientation, anchors, size, *rest)
         count, seconds = spent.get(size, (0, 0.0))
-        spent[size] = (count + 1, seconds + time.perf_counter() - start)
-        return stroke
+        spent[size] = (count + len(strokes), seconds + time.perf_counter() - start)
+        return strokes
 
-    huang11.paint_stroke = timed
+    huang11.paint_round = timed
     try:
         huang11.paint(pixels, Params())
     finally:
-        huang11.paint_stroke = lay
+        huang11.paint_round = lay
     return spent
 
 

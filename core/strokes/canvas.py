@@ -51,6 +51,8 @@ class Canvas:
         np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
         position = np.arange(len(ordered))
         rank = position - np.maximum.accumulate(np.where(new, position, 0))
+        if rank.max() < 2 ** 15:
+            rank = rank.astype(np.int16)                       # a radix sort
         by_rank = by_pixel[np.argsort(rank, kind="stable")]
         passes = np.bincount(rank)
         inverse = inverse_full(footprints.full)

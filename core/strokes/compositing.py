@@ -167,7 +167,16 @@ def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray,
     index, nxt = starts[owner] + below, starts[owner] + np.minimum(below + 1, last_stamp)
     touch = np.ones(len(k)) if contact is None else _lerp_at(contact.astype(np.float64), index, nxt, frac)
     build = np.ones(len(k)) if stamp_relief is None else _lerp_at(stamp_relief.astype(np.float64), index, nxt, frac)
-    log_total, laid = RowTables.of(grid, passes).runs(first_row, last_row, touch)       # (K, W) each
+    # what the rows lay: the whole brush at full contact inside the stroke, tables and runs at its ends
+    ends = np.flatnonzero((first_row > 0) | (last_row < n_rows - 1) | (touch < 1.0))
+    tables = RowTables.of(grid, passes)
+    whole_log, whole_laid = tables.runs(np.zeros(1, np.int64), np.full(1, n_rows - 1), np.ones(1))
+    log_total = np.repeat(whole_log, len(k), axis=0)
+    laid = np.repeat(whole_laid, len(k), axis=0)
+    log_total[ends], laid[ends] = tables.runs(first_row[ends], last_row[ends], touch[ends])
+    colour = run_colours(grid, grid_colours, passes, np.arange(n), np.zeros(n, np.int64),
+                         np.full(n, n_rows - 1))[owner]
+    colour[ends] = run_colours(grid, grid_colours, passes, owner[ends], first_row[ends], last_row[ends])
 
     # where each track sample lies: the path at its arc, going on straight past the ends
     base = _lerp_at(stamps, index, nxt, frac)
@@ -183,55 +192,64 @@ def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray,
     # what each track sample lays per unit of splat weight: depth, depth-weighted colour, contact, height
     values = np.empty(log_total.shape + (6,), np.float32)
     np.negative(log_total, out=values[..., 0])
-    np.multiply(values[..., 0:1], run_colours(grid, grid_colours, passes, owner, first_row, last_row),
-                out=values[..., 1:4])
+    np.multiply(values[..., 0:1], colour, out=values[..., 1:4])
     np.multiply(laid, np.float32(1.0 / float(rows)), out=values[..., 4])
     np.multiply(values[..., 4], (build[:, None] * ridge[None, :]).astype(np.float32), out=values[..., 5])
-    return _splat(x, y, span, values, track_starts * n_columns, (h, w))
+    return _splat(x, y, span, values, track_starts, (h, w))
 
 
-def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, entry_starts: np.ndarray,
+def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, track_starts: np.ndarray,
            shape: tuple) -> Footprints:
     """Splat (K, W) track samples of N strokes bilinearly and sum them per (stroke, pixel).
 
     x, y: (K, W) float32 positions (px); span: (K, W) the arc each sample
     spans (its splat weight); values: (K, W, 6) what a sample lays per unit
-    of weight (depth, depth-weighted colour, deposit, height); entry_starts
-    (N + 1,) the strokes' runs of the flat (K W) samples. Each stroke sums
-    its samples on its own bounding box, a chunk of strokes at a time (one
-    sparse product per chunk, in sample order, float32); what lands off the
-    canvas is dropped.
+    of weight (depth, depth-weighted colour, deposit, height); track_starts
+    (N + 1,) the strokes' runs of the K track samples. Each stroke sums its
+    samples on its own bounding box, a chunk of strokes at a time (one sparse
+    product per chunk, in sample order, float32); what lands off the canvas
+    is dropped.
     """
     h, w = shape
-    n = len(entry_starts) - 1
-    fx, fy = np.floor(x).ravel(), np.floor(y).ravel()
-    ax, ay = x.ravel() - fx, y.ravel() - fy
-    ix, iy = fx.astype(np.int64), fy.astype(np.int64)
-    seg = entry_starts[:-1]
-    x0, y0 = np.minimum.reduceat(ix, seg), np.minimum.reduceat(iy, seg)
-    box_w = np.maximum.reduceat(ix, seg) - x0 + 2
-    area = box_w * (np.maximum.reduceat(iy, seg) - y0 + 2)
-    weight = span.ravel()
-    bx, by = np.float32(1.0) - ax, (np.float32(1.0) - ay) * weight
-    ay *= weight
-    corner_weights = np.stack([bx * by, ax * by, bx * ay, ax * ay], axis=1)                  # (K W, 4)
+    n, n_columns = len(track_starts) - 1, x.shape[1]
+    fx, fy = np.floor(x), np.floor(y)
+    ax, ay = x - fx, y - fy
+    ix, iy = fx.astype(np.int32), fy.astype(np.int32)
+    seg = track_starts[:-1]
+    x0 = np.minimum.reduceat(ix.min(axis=1), seg).astype(np.int64)
+    y0 = np.minimum.reduceat(iy.min(axis=1), seg).astype(np.int64)
+    box_w = np.maximum.reduceat(ix.max(axis=1), seg) - x0 + 2
+    area = box_w * (np.maximum.reduceat(iy.max(axis=1), seg) - y0 + 2)
+    bx = np.float32(1.0) - ax
+    ay *= span
+    by = span - ay                                                                           # (1 - ay) span
+    weights = np.empty(x.shape + (4,), np.float32)                                          # bilinear, per corner
+    np.multiply(bx, by, out=weights[..., 0])
+    np.multiply(ax, by, out=weights[..., 1])
+    np.multiply(bx, ay, out=weights[..., 2])
+    np.multiply(ax, ay, out=weights[..., 3])
     values = values.reshape(-1, 6)
     cut = np.searchsorted(np.cumsum(area), np.arange(1, int(area.sum() // SPLAT_CHUNK_PIXELS) + 1)
                           * SPLAT_CHUNK_PIXELS)
     bounds = np.unique(np.concatenate(([0], cut, [n])))
     pixels, sums, owners = [], [], []
     for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
-        lo, hi = int(entry_starts[a]), int(entry_starts[b])
+        lo, hi = int(track_starts[a]), int(track_starts[b])
         box_start = np.zeros(b - a + 1, np.int64)
         np.cumsum(area[a:b], out=box_start[1:])
-        o = np.repeat(np.arange(b - a), np.diff(entry_starts[a:b + 1]))
-        base = (box_start[o] + (iy[lo:hi] - y0[a:b][o]) * box_w[a:b][o] + (ix[lo:hi] - x0[a:b][o])).astype(np.int32)
-        stride = box_w[a:b][o].astype(np.int32)
-        corners = np.stack([base, base + 1, base + stride, base + stride + 1], axis=1)
-        size = int(box_start[-1])
-        splat = sparse.csc_matrix((corner_weights[lo:hi].ravel(), corners.ravel(),
-                                   np.arange(0, 4 * (hi - lo) + 1, 4, dtype=np.int64)), shape=(size, hi - lo))
-        laid = splat @ values[lo:hi]
+        o = np.repeat(np.arange(a, b), np.diff(track_starts[a:b + 1]))                       # (k,) stroke of a sample
+        stride = box_w[o].astype(np.int32)[:, None]
+        origin = (box_start[o - a] - y0[o] * box_w[o] - x0[o]).astype(np.int32)[:, None]
+        base = iy[lo:hi] * stride + ix[lo:hi] + origin                                        # (k, W)
+        corners = np.empty(base.shape + (4,), np.int32)
+        corners[..., 0] = base
+        np.add(base, 1, out=corners[..., 1])
+        np.add(base, stride, out=corners[..., 2])
+        np.add(corners[..., 2], 1, out=corners[..., 3])
+        count = (hi - lo) * n_columns
+        splat = sparse.csc_matrix((weights[lo:hi].ravel(), corners.ravel(),
+                                   np.arange(0, 4 * count + 1, 4, dtype=np.int32)), shape=(int(box_start[-1]), count))
+        laid = splat @ values[lo * n_columns:hi * n_columns]
         touched = np.flatnonzero((laid[:, 0] > 0) | (laid[:, 4] > 0))
         stroke = np.searchsorted(box_start, touched, side="right") - 1
         row, column = np.divmod(touched - box_start[stroke], box_w[a:b][stroke])
