@@ -126,3 +126,21 @@ def test_every_visit_draws_from_its_own_stream():
     assert not np.array_equal(visit_uniforms(5, 3, np.array([7]), 4), alone)
     many = visit_uniforms(1, 0, np.arange(20000), 1).ravel()
     assert abs(many.mean() - 0.5) < 0.01 and np.histogram(many, 10, (0, 1))[0].min() > 1800
+
+
+def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch):
+    # memory bounds split a round into chunks of strokes; the painting must not notice
+    from core.strokes import compositing, rounds
+
+    image = photo(11, 48, 56, "blocks")
+    params = Params(seed=4, stroke_sizes=(16, 8, 4), layers=2, size_reference_megapixels=0.0027, detail_pass=True)
+    whole = huang11.paint(image, params)
+    monkeypatch.setattr(rounds, "PLAN_CHUNK_SAMPLES", 1)
+    monkeypatch.setattr(rounds, "LAY_CHUNK_SAMPLES", 200)
+    monkeypatch.setattr(compositing, "SPLAT_CHUNK_PIXELS", 50)
+    chunks = []
+    split = rounds.lay_chunks
+    monkeypatch.setattr(rounds, "lay_chunks", lambda paths, tip: chunks.append(split(paths, tip)) or chunks[-1])
+    chunked = huang11.paint(image, params)
+    assert max(len(c) for c in chunks) > 3
+    same_painting(whole, chunked)

@@ -11,6 +11,7 @@ then laid alone on its whole box. Both give the same bytes.
 
 from __future__ import annotations
 
+import math
 from typing import List
 
 import numpy as np
@@ -32,8 +33,12 @@ from .stroke import (
     solid_stroke,
 )
 
-# Strokes laid together at most: bounds the memory of a round's footprints (a few MB per hundred strokes).
-LAY_CHUNK_STROKES = 256
+# Curve samples (times bristles and channels, roughly) planned together at most: bounds the memory of planning.
+PLAN_CHUNK_SAMPLES = 1 << 23
+
+# Track samples (times brush columns) laid together at most: bounds the memory of a round's footprints
+# (about 100 bytes each), whatever the brush size.
+LAY_CHUNK_SAMPLES = 1 << 21
 
 
 def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
@@ -64,9 +69,25 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
         return [stroke for plan in planned for stroke in records(plan, anchors_of(plan), size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
-    for first in range(0, len(anchors), LAY_CHUNK_STROKES):
-        lay_round(canvas, chunk_of(plan, first, first + LAY_CHUNK_STROKES), size, tip, params)
+    for first, stop in lay_chunks(plan["paths"], tip):
+        lay_round(canvas, chunk_of(plan, first, stop), size, tip, params)
     return records(plan, anchors, size, layer)
+
+
+def lay_chunks(paths: PlannedPaths, tip: BrushTip) -> list:
+    """[(first, stop), ...]: runs of consecutive strokes whose track samples times brush columns stay within
+    LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve
+    samples plus the brush's length."""
+    n = len(paths.first)
+    cost = (paths.last - paths.first + 1 + int(tip.length) + 1) * (int(np.ptp(tip.across)) + 1)
+    total = np.cumsum(cost)
+    bounds, first = [], 0
+    while first < n:
+        stop = int(np.searchsorted(total, (total[first - 1] if first else 0) + LAY_CHUNK_SAMPLES, side="right"))
+        stop = max(stop, first + 1)
+        bounds.append((first, stop))
+        first = stop
+    return bounds
 
 
 def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
@@ -74,8 +95,27 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
     """Everything N strokes need to be laid, planned against ``canvas`` as it is now.
 
     Returns {"anchors" (N, 2), "colours" (N, B, 3) bristle colours,
-    "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}.
+    "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}. The
+    strokes are planned PLAN_CHUNK_SAMPLES curve samples at a time (the
+    canvas does not change in between), which bounds the memory of the tests.
     """
+    samples = (2 * max(0, params.max_length - 1) * max(1, math.ceil(max(1.0, 0.5 * size) - 1e-9)) + 1) * (len(tip) + 8)
+    step = max(1, PLAN_CHUNK_SAMPLES // samples)
+    parts = [plan_strokes(canvas, sources, orientation, anchors[i:i + step], size, tip, draws[i:i + step], params)
+             for i in range(0, len(anchors), step)]
+    if len(parts) == 1:
+        return parts[0]
+    paths = [part["paths"] for part in parts]
+    plan = {key: np.concatenate([part[key] for part in parts]) for key in ("anchors", "colours", "anchor_colours",
+                                                                            "angles")}
+    plan["paths"] = PlannedPaths(np.concatenate([p.samples for p in paths]), np.concatenate([p.first for p in paths]),
+                                 np.concatenate([p.last for p in paths]), paths[0].per_segment)
+    return plan
+
+
+def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
+                 tip: BrushTip, draws: np.ndarray, params: Params) -> dict:
+    """``plan_round`` of one chunk of strokes."""
     angles = orientation[anchors[:, 1], anchors[:, 0]].astype(np.float64)
     shift, offset = colour_jitter(draws, params.perturbation, params.hue_perturbation)
     deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
