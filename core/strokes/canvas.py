@@ -44,29 +44,33 @@ class Canvas:
         pixel = footprints.pixel
         if pixel.size == 0:
             return
-        owner = np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts))
-        by_pixel = np.argsort(pixel, kind="stable")
-        ordered = pixel[by_pixel]
+        keys = pixel.astype(np.int32) if self.height.size < 2 ** 31 else pixel
+        by_pixel = np.argsort(keys, kind="stable")
+        ordered = keys[by_pixel]
         new = np.ones(len(ordered), bool)
         np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
         position = np.arange(len(ordered))
         rank = position - np.maximum.accumulate(np.where(new, position, 0))
         if rank.max() < 2 ** 15:
             rank = rank.astype(np.int16)                       # a radix sort
-        by_rank = by_pixel[np.argsort(rank, kind="stable")]
+        order = by_pixel[np.argsort(rank, kind="stable")]      # pass after pass, each in the run's order
         passes = np.bincount(rank)
-        inverse = inverse_full(footprints.full)
-        colour, coverage = self.colour.reshape(-1, 3), self.coverage.ravel()
+        owner = np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts))
+        at_all = pixel[order]
+        keep, deposit, raised = footprints.transmittance[order], footprints.deposit[order], footprints.height[order]
+        paint = _rows(footprints.paint)[order].view(np.float32).reshape(-1, 3)
+        inverse = inverse_full(footprints.full)[owner[order]]
+        colour, coverage = _rows(self.colour.reshape(-1, 3)), self.coverage.ravel()
         height, opacity = self.height.ravel(), self.opacity.ravel()
         done = 0
         for size in passes.tolist():
-            entry = by_rank[done:done + size]
+            part = slice(done, done + size)
             done += size
-            at = pixel[entry]
-            colour[at], coverage[at], height[at], opacity[at] = composite(
-                colour[at], coverage[at], height[at], opacity[at], footprints.transmittance[entry],
-                footprints.paint[entry], footprints.deposit[entry], footprints.height[entry],
-                inverse[owner[entry]], height_mode, build)
+            at = at_all[part]
+            new_colour, coverage[at], height[at], opacity[at] = composite(
+                colour[at].view(np.float32).reshape(-1, 3), coverage[at], height[at], opacity[at], keep[part],
+                paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
+            colour[at] = _rows(new_colour)
 
     def lay_one(self, footprints: Footprints, stroke: int, height_mode: str, build: float) -> None:
         """Lay stroke ``stroke`` of ``footprints`` alone, on the whole box around the pixels it touches.
@@ -95,6 +99,11 @@ class Canvas:
         (self.colour[box], self.coverage[box], self.height[box], self.opacity[box]) = composite(
             self.colour[box], self.coverage[box], self.height[box], self.opacity[box], keep, paint, deposit,
             stroke_height, inverse, height_mode, build)
+
+
+def _rows(values: np.ndarray) -> np.ndarray:
+    """(N,) void view of a C-contiguous (N, 3) float32 array, one item per row (rows gather and scatter as items)."""
+    return np.ascontiguousarray(values, np.float32).view(np.dtype((np.void, 12))).ravel()
 
 
 def inverse_full(full: np.ndarray) -> np.ndarray:

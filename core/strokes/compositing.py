@@ -250,15 +250,18 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
         splat = sparse.csc_matrix((weights[lo:hi].ravel(), corners.ravel(),
                                    np.arange(0, 4 * count + 1, 4, dtype=np.int32)), shape=(int(box_start[-1]), count))
         laid = splat @ values[lo * n_columns:hi * n_columns]
-        touched = np.flatnonzero((laid[:, 0] > 0) | (laid[:, 4] > 0))
-        stroke = np.searchsorted(box_start, touched, side="right") - 1
-        row, column = np.divmod(touched - box_start[stroke], box_w[a:b][stroke])
-        row += y0[a:b][stroke]
-        column += x0[a:b][stroke]
+        touched = np.flatnonzero(laid[:, 4] > 0)                  # contact laid (and so depth) > 0
+        stroke = np.repeat(np.arange(a, b), np.diff(np.searchsorted(touched, box_start)))
+        local = touched - box_start[stroke - a]
+        row = np.floor((local + 0.5) / box_w[stroke]).astype(np.int64)      # exact: local < 2^52
+        column = local - row * box_w[stroke] + x0[stroke]
+        row += y0[stroke]
         on = (row >= 0) & (row < h) & (column >= 0) & (column < w)
-        pixels.append(row[on] * w + column[on])
-        sums.append(laid[touched[on]])
-        owners.append(stroke[on] + a)
+        if not on.all():
+            touched, stroke, row, column = touched[on], stroke[on], row[on], column[on]
+        pixels.append(row * w + column)
+        sums.append(laid.view(np.dtype((np.void, 24))).ravel()[touched].view(np.float32).reshape(-1, 6))
+        owners.append(stroke)
     pixel, laid, stroke = np.concatenate(pixels), np.concatenate(sums), np.concatenate(owners)
     starts = np.zeros(n + 1, np.int64)
     np.cumsum(np.bincount(stroke, minlength=n), out=starts[1:])
