@@ -36,7 +36,7 @@ from .smoothing import SmoothedImage
 class PlannedPaths:
     """The kept part of each of N strokes' curves.
 
-    samples: float64 (N, S, 2) (x, y) px, about one px apart, backward end -> forward end.
+    samples: float64 (N, S, 2) (x, y) px, ``sample_spacing(size)`` apart, backward end -> forward end.
     first, last: int (N,) the kept samples of stroke i are first[i] .. last[i].
     per_segment: control points are the samples at multiples of it.
     """
@@ -52,6 +52,18 @@ class PlannedPaths:
         inner = np.arange((first // k + 1) * k, last, k)
         index = np.concatenate(([first], inner, [last])) if last > first else np.array([first])
         return self.samples[i, index].astype(np.float32)
+
+
+def sample_spacing(size: int) -> float:
+    """Curve samples of a stroke ``size`` px wide lie about this far apart (px): 1 px up to 16 px brushes, then
+    size / 16, so a stop lands within a sixteenth of the width of where the smoothed reference changes (its
+    blur, 0.25 x the width, varies no faster)."""
+    return max(1.0, size / 16.0)
+
+
+def samples_per_segment(size: int) -> int:
+    """Curve samples per control segment (one brush radius) of a stroke ``size`` px wide."""
+    return max(1, math.ceil(max(1.0, 0.5 * size) / sample_spacing(size) - 1e-9))
 
 
 def continue_mask(points: np.ndarray, reference_at_points: np.ndarray, canvas_colour: np.ndarray,
@@ -95,7 +107,7 @@ def plan_paths(anchors: np.ndarray, size: int, orientation: np.ndarray, canvas_c
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     n = len(anchors)
     step = max(1.0, 0.5 * size)
-    per_segment = max(1, math.ceil(step - 1e-9))
+    per_segment = samples_per_segment(size)
     beyond = max(0, params.max_length - 1)
     angles = orientation[anchors[:, 1], anchors[:, 0]].astype(np.float64)
     if params.path_rule == "literal":

@@ -11,7 +11,6 @@ then laid alone on its whole box. Both give the same bytes.
 
 from __future__ import annotations
 
-import math
 from typing import List
 
 import numpy as np
@@ -21,7 +20,7 @@ from .brush import BrushTip
 from .canvas import Canvas
 from .compositing import track_footprints
 from .path import resample_by_length, tangent_angles
-from .planning import PlannedPaths, plan_paths
+from .planning import PlannedPaths, plan_paths, samples_per_segment
 from .stroke import (
     MIN_ROWS,
     ColourSources,
@@ -99,7 +98,7 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
     strokes are planned PLAN_CHUNK_SAMPLES curve samples at a time (the
     canvas does not change in between), which bounds the memory of the tests.
     """
-    samples = (2 * max(0, params.max_length - 1) * max(1, math.ceil(max(1.0, 0.5 * size) - 1e-9)) + 1) * (len(tip) + 8)
+    samples = (2 * max(0, params.max_length - 1) * samples_per_segment(size) + 1) * (len(tip) + 8)
     step = max(1, PLAN_CHUNK_SAMPLES // samples)
     parts = [plan_strokes(canvas, sources, orientation, anchors[i:i + step], size, tip, draws[i:i + step], params)
              for i in range(0, len(anchors), step)]
