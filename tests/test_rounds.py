@@ -140,7 +140,7 @@ def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch
     monkeypatch.setattr(compositing, "SPLAT_CHUNK_PIXELS", 50)
     chunks = []
     split = rounds.lay_chunks
-    monkeypatch.setattr(rounds, "lay_chunks", lambda paths, tip: chunks.append(split(paths, tip)) or chunks[-1])
+    monkeypatch.setattr(rounds, "lay_chunks", lambda *args: chunks.append(split(*args)) or chunks[-1])
     chunked = huang11.paint(image, params)
     assert max(len(c) for c in chunks) > 3
     same_painting(whole, chunked)

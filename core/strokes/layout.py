@@ -41,6 +41,10 @@ def grid_pixels(grids: np.ndarray) -> tuple:
     return grids[owner, 0] + lx, grids[owner, 1] + ly, starts
 
 
+# Grid pixels looked at together at most when choosing anchors (bounds the memory: about 250 bytes each).
+ANCHOR_CHUNK_PIXELS = 1 << 18
+
+
 def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
     """This layer's anchors (x, y) in N (N, 4) grids (x0, y0, x1, y1) of one stroke size, all at once.
@@ -61,7 +65,23 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
        line up on grid corners.
     Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke).
+    Grids are looked at ANCHOR_CHUNK_PIXELS pixels at a time (each grid's choice is its own).
     """
+    grids = np.asarray(grids, np.int64).reshape(-1, 4)
+    areas = np.cumsum((grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1]))
+    cuts = np.searchsorted(areas, np.arange(1, int(areas[-1]) // ANCHOR_CHUNK_PIXELS + 1) * ANCHOR_CHUNK_PIXELS) \
+        if len(grids) else np.zeros(0, np.int64)
+    bounds = np.unique(np.concatenate(([0], cuts, [len(grids)])))
+    parts = [_choose_anchors(grids[a:b], coverage, colour, reference, coverage_threshold, difference_threshold,
+                             ties[a:b]) for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)]
+    if not parts:
+        return np.zeros((0, 2), np.int64), np.zeros(0, bool)
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
+                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
+    """``choose_anchors`` of a chunk of grids."""
     n = len(grids)
     x, y, starts = grid_pixels(grids)
     owner = np.repeat(np.arange(n), np.diff(starts))

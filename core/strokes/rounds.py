@@ -20,7 +20,7 @@ from .brush import BrushTip
 from .canvas import Canvas
 from .compositing import track_footprints
 from .path import resample_by_length, tangent_angles
-from .planning import PlannedPaths, plan_paths, samples_per_segment
+from .planning import PlannedPaths, plan_paths, sample_spacing, samples_per_segment
 from .stroke import (
     MIN_ROWS,
     ColourSources,
@@ -37,7 +37,7 @@ PLAN_CHUNK_SAMPLES = 1 << 23
 
 # Track samples (times brush columns) laid together at most: bounds the memory of a round's footprints
 # (about 100 bytes each), whatever the brush size.
-LAY_CHUNK_SAMPLES = 1 << 21
+LAY_CHUNK_SAMPLES = 1 << 20
 
 
 def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
@@ -68,17 +68,18 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
         return [stroke for plan in planned for stroke in records(plan, anchors_of(plan), size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
-    for first, stop in lay_chunks(plan["paths"], tip):
+    for first, stop in lay_chunks(plan["paths"], tip, size):
         lay_round(canvas, chunk_of(plan, first, stop), size, tip, params)
     return records(plan, anchors, size, layer)
 
 
-def lay_chunks(paths: PlannedPaths, tip: BrushTip) -> list:
+def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
     """[(first, stop), ...]: runs of consecutive strokes whose track samples times brush columns stay within
-    LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve
-    samples plus the brush's length."""
+    LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
+    length in px (curve samples ``sample_spacing`` apart) plus the brush's length."""
     n = len(paths.first)
-    cost = (paths.last - paths.first + 1 + int(tip.length) + 1) * (int(np.ptp(tip.across)) + 1)
+    length = np.ceil((paths.last - paths.first) * sample_spacing(size)).astype(np.int64)
+    cost = (length + int(tip.length) + 3) * (int(np.ptp(tip.across)) + 1)
     total = np.cumsum(cost)
     bounds, first = [], 0
     while first < n:
