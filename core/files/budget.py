@@ -149,14 +149,15 @@ def check_stroke_sizes(params, height: int, width: int) -> None:
     default_widest = max(scaled_sizes(Params(), height, width))
     for size in sorted(params.stroke_sizes, reverse=True):
         scaled = scaled_sizes(params.replace(stroke_sizes=(size,)), height, width)[0]
-        if scaled > max(longest, 2):
-            raise ParameterError(f"The stroke size {size} in --sizes becomes {scaled} px on this {width} x {height} "
-                                 f"image, wider than the image itself.")
         limit = max(shortest, default_widest)
-        if scaled > limit:
-            raise ParameterError(f"The stroke size {size} in --sizes becomes {scaled} px on this {width} x {height} "
-                                 f"image, larger than the image's {shortest} px side; sizes are px at 1 megapixel, "
-                                 f"so give sizes up to {_largest_fitting(params, height, width, limit)}.")
+        if scaled <= limit:
+            continue
+        what = (f"The stroke size {size} in --sizes (the panel's Stroke Sizes) becomes {scaled} px "
+                f"on this {width} x {height} image")
+        if scaled > max(longest, 2):
+            raise ParameterError(f"{what}, wider than the image itself.")
+        raise ParameterError(f"{what}, larger than the image's {shortest} px side; sizes are px at 1 megapixel, "
+                             f"so give sizes up to {_largest_fitting(params, height, width, limit)}.")
 
 
 def _largest_fitting(params, height: int, width: int, side: int) -> int:
