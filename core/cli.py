@@ -235,7 +235,8 @@ def write_analysis(out: Path, analysis: Analysis, params: Params, source: str, p
     io.write_png(out / "orientation.png", orientation_picture(analysis.orientation, analysis.reference, params.seed))
     summary = analysis.summary()
     summary["seconds"]["pictures"] = round(time.perf_counter() - t0, 4)
-    summary.update({"input": str(source), "input_page": 0, "input_pages": int(pages), "version": __version__, "seed": params.seed, "params": params.to_dict()})
+    summary.update({"input": str(source), "input_page": 0, "input_pages": int(pages), "version": __version__,
+                    "seed": params.seed, "params": params.to_dict()})
     io.write_json(out / "analysis.json", summary)
 
 

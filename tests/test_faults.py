@@ -295,8 +295,8 @@ def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd
 
 def test_default_sizes_fit_every_image():
     """The defaults are never refused, on a 1 x 4000 strip either; a size scaled past a strip's width is."""
-    from core.files.budget import check_stroke_sizes
     from core.errors import ParameterError
+    from core.files.budget import check_stroke_sizes
 
     for height, width in [(1, 4000), (4000, 1), (1, 1), (10, 4000), (72, 96), (3000, 4000)]:
         check_stroke_sizes(Params(), height, width)

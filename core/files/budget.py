@@ -147,9 +147,9 @@ def check_stroke_sizes(params, height: int, width: int) -> None:
 
     longest, shortest = max(int(height), int(width)), min(int(height), int(width))
     default_widest = max(scaled_sizes(Params(), height, width))
+    limit = max(shortest, default_widest)
     for size in sorted(params.stroke_sizes, reverse=True):
         scaled = scaled_sizes(params.replace(stroke_sizes=(size,)), height, width)[0]
-        limit = max(shortest, default_widest)
         if scaled <= limit:
             continue
         what = (f"The stroke size {size} in --sizes (the panel's Stroke Sizes) becomes {scaled} px "

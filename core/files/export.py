@@ -172,7 +172,7 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
         files[NORMAL_FILE] = file_digest(folder / NORMAL_FILE)
     report = dict(painting.statistics)
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
-    report.update({"input": str(source), "input_page": 0, "input_pages": int(pages), "params": painting.params.to_dict(),
-                   "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
+    report.update({"input": str(source), "input_page": 0, "input_pages": int(pages),
+                   "params": painting.params.to_dict(), "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
     io.write_json(folder / "report.json", report)
     return report
