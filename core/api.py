@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
+from typing import Callable, Optional
 
 from .errors import InputError, PaintReliefError
 from .files import budget, io
@@ -26,7 +26,7 @@ def check_input(input_path, params: Params, mask_path: Optional[str] = None,
     width, height, _ = io.probe(input_path, params.max_megapixels)
     budget.check_bomb(input_path, width, height)
     if mask_path:
-        mask_w, mask_h, _ = io.probe(mask_path, params.max_megapixels)
+        mask_w, mask_h, _ = io.probe(mask_path, params.max_megapixels, role="mask")
         budget.check_bomb(mask_path, mask_w, mask_h)
     budget.check_stroke_sizes(params, height, width)
     budget.check(input_path, width, height, params.layers, mask=bool(mask_path), max_memory=max_memory)
@@ -34,32 +34,49 @@ def check_input(input_path, params: Params, mask_path: Optional[str] = None,
 
 
 def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-               mask_path: Optional[str] = None, max_memory: Optional[int] = None, normal_map: bool = False) -> dict:
+               mask_path: Optional[str] = None, max_memory: Optional[int] = None, normal_map: bool = False,
+               notice: Optional[Callable[[str], None]] = None) -> dict:
     """Read ``input_path``, paint it and write every output into ``output_dir``; return the report.
 
-    Checks everything it can from headers first (``check_input``), then
-    locks ``output_dir`` (one writer per folder) and paints. Outputs are
+    Checks everything it can from headers first (``check_input``, and the
+    free space of ``output_dir``'s file system against the painting's size),
+    then locks ``output_dir`` (one writer per folder), checks that nothing
+    stands where an output must go, and paints. An input holding several
+    images (a multi-page TIFF, a multi-part EXR, an animated PNG or GIF) is
+    painted from its first: ``notice`` (when given) receives one sentence
+    saying so, and report.json records ``input_page`` (0) and
+    ``input_pages``. Outputs are
     committed all together or not at all (see ``staging``); a failure raises
     a PaintReliefError whose message is one sentence naming the file and the
     problem, and leaves ``output_dir`` as it was (a folder this call created
     is removed again). Running out of memory is reported the same way.
     With ``normal_map`` normal.exr is written too (``export.write_painting``).
     """
-    from .files.export import write_painting
+    from .files.export import NORMAL_FILE, PAINTING_FILES, write_painting
     from .methods.registry import paint
 
-    check_input(input_path, params, mask_path, max_memory)
+    width, height = check_input(input_path, params, mask_path, max_memory)
+    budget.check_space(output_dir, input_path, width, height, normal_map)
+    pages = io.image_count(input_path)
+    if pages > 1 and notice is not None:
+        notice(pages_notice(input_path, pages))
     try:
         with output_folder(output_dir) as folder:
+            folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()))
             image = io.read_image(input_path, params.max_megapixels, params.canvas_colour)
-            mask = io.read_gray(mask_path, params.max_megapixels) if mask_path else None
+            mask = io.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
             painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
             with folder.staged() as staging:
-                report = write_painting(staging, painting, str(input_path), normal_map)
+                report = write_painting(staging, painting, str(input_path), normal_map, pages=pages)
     except MemoryError:
         raise out_of_memory(input_path) from None
     report["output_dir"] = str(Path(output_dir).resolve())
     return report
+
+
+def pages_notice(input_path, pages: int) -> str:
+    """The one-line notice for an input holding ``pages`` images, of which the first is used."""
+    return f"{input_path} holds {pages} images; painting the first."
 
 
 def out_of_memory(input_path) -> PaintReliefError:

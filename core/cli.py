@@ -179,17 +179,21 @@ def max_memory(args: argparse.Namespace):
 
 def run_analyze(args: argparse.Namespace, progress) -> None:
     """The ``analyze`` subcommand."""
-    from .api import check_input, out_of_memory
+    from .api import check_input, out_of_memory, pages_notice
 
     params = params_from_args(args)
     check_input(args.input, params, args.mask, max_memory(args))
+    pages = io.image_count(args.input)
+    if pages > 1:
+        _notice(progress, pages_notice(args.input, pages))
     try:
         with output_folder(args.output) as folder:
+            folder.check_names(ANALYSIS_FILES)
             image = io.read_image(args.input, params.max_megapixels, params.canvas_colour)
-            mask = io.read_gray(args.mask, params.max_megapixels) if args.mask else None
+            mask = io.read_gray(args.mask, params.max_megapixels, role="mask") if args.mask else None
             analysis = analyze(image, params, mask=mask, progress=progress)
             with folder.staged() as staging:
-                write_analysis(staging, analysis, params, args.input)
+                write_analysis(staging, analysis, params, args.input, pages)
     except MemoryError:
         raise out_of_memory(args.input) from None
 
@@ -201,11 +205,25 @@ def run_paint(args: argparse.Namespace, progress) -> None:
 
     with reused_heap():
         paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask,
-                   max_memory=max_memory(args), normal_map=args.normal_map)
+                   max_memory=max_memory(args), normal_map=args.normal_map,
+                   notice=lambda text: _notice(progress, text))
 
 
-def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -> None:
-    """Write the analysis pictures, maps and figures into folder ``out``."""
+def _notice(console, text: str) -> None:
+    """One line of notice on stderr (also under --quiet: it says which image is painted), after any progress line."""
+    if console is not None:
+        console.close()
+    print(f"paint-relief: {text}", file=sys.stderr, flush=True)
+
+
+ANALYSIS_FILES = ("reference.png", "importance.exr", "importance.png", "partition.png", "orientation.png",
+                  "analysis.json")
+"""Every file ``write_analysis`` writes."""
+
+
+def write_analysis(out: Path, analysis: Analysis, params: Params, source: str, pages: int = 1) -> None:
+    """Write the analysis pictures, maps and figures (ANALYSIS_FILES) into folder ``out``; analysis.json records
+    the input, its image analysed ("input_page", 0) and how many it holds ("input_pages", ``pages``)."""
     t0 = time.perf_counter()
     attributes = {"paint_relief:version": __version__, "paint_relief:seed": str(params.seed),
                   "paint_relief:params": json.dumps(params.to_dict(), sort_keys=True)}
@@ -217,7 +235,8 @@ def write_analysis(out: Path, analysis: Analysis, params: Params, source: str) -
     io.write_png(out / "orientation.png", orientation_picture(analysis.orientation, analysis.reference, params.seed))
     summary = analysis.summary()
     summary["seconds"]["pictures"] = round(time.perf_counter() - t0, 4)
-    summary.update({"input": str(source), "version": __version__, "seed": params.seed, "params": params.to_dict()})
+    summary.update({"input": str(source), "input_page": 0, "input_pages": int(pages), "version": __version__,
+                    "seed": params.seed, "params": params.to_dict()})
     io.write_json(out / "analysis.json", summary)
 
 

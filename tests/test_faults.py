@@ -9,9 +9,11 @@ file's size and SHA-256 as the report lists them, every EXR's header seed
 equal to the report's) or exactly its previous contents.
 """
 
+import contextlib
 import json
 import os
 import random
+import re
 import shutil
 import signal
 import subprocess
@@ -66,6 +68,12 @@ def assert_one_sentence(err: str, *words):
     assert "Traceback" not in text
     for word in words:
         assert str(word) in text, (word, text)
+
+
+def assert_named_once(err: str, path):
+    """The sentence names ``path`` exactly once (and no hidden staging or temporary name)."""
+    assert err.count(str(path)) == 1, (str(path), err)
+    assert STAGING_PREFIX not in err and ".tmp-" not in err, err
 
 
 def assert_untouched_or_complete(folder: Path, before: dict):
@@ -173,6 +181,7 @@ def test_bad_input_is_one_sentence_and_changes_nothing(inputs, folder, name, wor
     run = run_cli(["paint", inputs / name, "-o", out, "-q", "--seed", "2"])
     assert run.returncode == 2
     assert_one_sentence(run.stderr, *words)
+    assert_named_once(run.stderr, inputs / name)
     assert snapshot(out) == before
 
 
@@ -271,6 +280,31 @@ def test_stroke_wider_than_the_image_is_refused(inputs, tmp_path, capfd):
     assert not (tmp_path / "o").exists()
 
 
+def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd):
+    """--sizes are px at 1 megapixel: 900 becomes a 75 px brush on a 96 x 72 image, taller than the image."""
+    out, before = folder
+    small = out.parent / "small.png"
+    io.write_png(small, photo_array(72, 96))
+    t0 = time.monotonic()
+    assert main(["paint", str(small), "-o", str(out), "-q", "--sizes", "900,64"]) == 2
+    assert time.monotonic() - t0 < 1.0
+    assert_one_sentence(capfd.readouterr().err, "stroke size 900", "--sizes", "75 px", "96 x 72", "72 px side",
+                        "up to 872")
+    assert snapshot(out) == before
+
+
+def test_default_sizes_fit_every_image():
+    """The defaults are never refused, on a 1 x 4000 strip either; a size scaled past a strip's width is."""
+    from core.errors import ParameterError
+    from core.files.budget import check_stroke_sizes
+
+    for height, width in [(1, 4000), (4000, 1), (1, 1), (10, 4000), (72, 96), (3000, 4000)]:
+        check_stroke_sizes(Params(), height, width)
+    check_stroke_sizes(Params(stroke_sizes=(872, 4)), 72, 96)
+    with pytest.raises(ParameterError, match="--sizes"):
+        check_stroke_sizes(Params(stroke_sizes=(128,)), 1, 4000)
+
+
 def test_panel_sizes_are_capped():
     with pytest.raises(ValueError, match="1024"):
         values.parse_sizes("64,100000")
@@ -300,6 +334,85 @@ def test_other_formats_paint_completely(inputs, folder, name):
     assert check_painting(out) == "2"
     assert (out / "notes.txt").read_text() == "the user's own file\n"
     assert hidden_leftovers(out) == []
+
+
+def _multi_image(path: Path, pages):
+    """Write the (H, W, 3) float arrays ``pages`` as the subimages of one TIFF (8-bit) or EXR (half, one part each)."""
+    out = oiio.ImageOutput.create(str(path))
+    kind = "uint8" if path.suffix == ".tif" else "half"
+    specs = [oiio.ImageSpec(p.shape[1], p.shape[0], 3, kind) for p in pages]
+    for i, spec in enumerate(specs):
+        spec.attribute("name", f"part{i}")
+    assert out.open(str(path), specs)
+    for i, page in enumerate(pages):
+        assert i == 0 or out.open(str(path), specs[i], "AppendSubimage")
+        data = np.round(page * 255).astype(np.uint8) if kind == "uint8" else page.astype(np.float32)
+        assert out.write_image(data)
+    out.close()
+
+
+def _png_chunks(path: Path):
+    """[(type, data)] of a PNG file."""
+    import struct
+
+    data, chunks, i = path.read_bytes(), [], 8
+    while i < len(data):
+        length, kind = struct.unpack(">I4s", data[i:i + 8])
+        chunks.append((kind, data[i + 8:i + 8 + length]))
+        i += 12 + length
+    return chunks
+
+
+def _apng(path: Path, frames):
+    """An animated PNG of the PNG files ``frames`` (same size and format), built chunk by chunk (APNG 1.0)."""
+    import struct
+    import zlib
+
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+    first = _png_chunks(frames[0])
+    ihdr = dict(first)[b"IHDR"]
+    width, height = struct.unpack(">II", ihdr[:8])
+    out, seq = [b"\x89PNG\r\n\x1a\n", chunk(b"IHDR", ihdr), chunk(b"acTL", struct.pack(">II", len(frames), 0))], 0
+    for n, frame in enumerate(frames):
+        out.append(chunk(b"fcTL", struct.pack(">IIIIIHHBB", seq, width, height, 0, 0, 1, 10, 0, 0)))
+        seq += 1
+        for kind, body in _png_chunks(frame):
+            if kind == b"IDAT" and n == 0:
+                out.append(chunk(b"IDAT", body))
+            elif kind == b"IDAT":
+                out.append(chunk(b"fdAT", struct.pack(">I", seq) + body))
+                seq += 1
+    out.append(chunk(b"IEND", b""))
+    path.write_bytes(b"".join(out))
+
+
+@pytest.mark.parametrize("name, pages", [("photo.tif", 3), ("photo_parts.exr", 2), ("animated.png", 3)])
+def test_an_input_of_several_images_paints_the_first_and_says_so(inputs, tmp_path, name, pages):
+    first = photo_array()
+    others = [np.full_like(first, 0.1 * (i + 1)) for i in range(pages - 1)]
+    source = tmp_path / name
+    if name.endswith(".png"):
+        frames = [tmp_path / f"frame{i}.png" for i in range(pages)]
+        for frame, data in zip(frames, [first] + others, strict=True):
+            io.write_png(frame, data)
+        _apng(source, frames)
+    else:
+        _multi_image(source, [first] + others)
+    alone = tmp_path / ("alone" + Path(name).suffix)
+    if name.endswith(".png"):
+        io.write_png(alone, first)
+    else:
+        _multi_image(alone, [first])
+    run = run_cli(["paint", source, "-o", tmp_path / "out", "-q", "--seed", "4"])
+    assert run.returncode == 0, run.stderr
+    assert run.stderr == f"paint-relief: {source} holds {pages} images; painting the first.\n"
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert (report["input_page"], report["input_pages"]) == (0, pages)
+    assert main(["paint", str(alone), "-o", str(tmp_path / "alone_out"), "-q", "--seed", "4"]) == 0
+    assert json.loads((tmp_path / "alone_out" / "report.json").read_text())["input_pages"] == 1
+    for painted_file in ("painting.png", "height.exr"):
+        assert (tmp_path / "out" / painted_file).read_bytes() == (tmp_path / "alone_out" / painted_file).read_bytes()
 
 
 @pytest.mark.parametrize("seed", [2**31, 2**53 + 1, 2**63 - 1])
@@ -400,8 +513,168 @@ def test_full_disk(inputs, folder, limit_kb):
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit_kb * 1024, limit_kb * 1024))
     run = run_cli(["paint", inputs / "photo.png", "-o", out, "-q", "--seed", "2"], preexec_fn=limit)
     assert run.returncode == 2, run.stderr
-    assert_one_sentence(run.stderr, str(out))
+    assert_one_sentence(run.stderr, str(out), "too large", "file size limit", "left as it was")
+    assert_named_once(run.stderr, out)
+    assert "Failed" not in run.stderr and "File output failed" not in run.stderr
     assert snapshot(out) == before
+
+
+@contextlib.contextmanager
+def small_disk(folder: Path, size: str):
+    """A tmpfs of ``size`` (such as '2M') mounted at ``folder`` for the block; the test is skipped when mounting
+    is not permitted (not root, or no CAP_SYS_ADMIN in a container)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    mount = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)],
+                           capture_output=True, text=True)
+    if mount.returncode != 0:
+        pytest.skip(f"a small tmpfs cannot be mounted here: {mount.stderr.strip() or 'mount failed'}")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", "-l", str(folder)], capture_output=True)
+
+
+@pytest.fixture(scope="module")
+def photo_16mp(tmp_path_factory):
+    """A 4000 x 4000 JPEG photograph (16 megapixels), its pixels never decoded by a refused run."""
+    path = tmp_path_factory.mktemp("p16") / "photo16mp.jpg"
+    rng = np.random.default_rng(16)
+    y, x = np.mgrid[0:4000, 0:4000].astype(np.float32) / 4000
+    pixels = np.stack([x, y, 0.5 * (x + y)], axis=2) * 200 + rng.integers(0, 40, (4000, 4000, 3))
+    buf = oiio.ImageBuf(oiio.ImageSpec(4000, 4000, 3, "uint8"))
+    buf.set_pixels(oiio.ROI(), pixels.astype(np.uint8))
+    assert buf.write(str(path))
+    return path
+
+
+def test_no_space_is_refused_within_a_second_before_painting(photo_16mp, tmp_path, monkeypatch, capfd):
+    """A 16 MP photograph into a nearly full 2 MB disk: refused from its header, before any pixel is read."""
+    import core.methods.registry
+
+    def painted(*args, **kwargs):
+        raise AssertionError("painting started")
+    monkeypatch.setattr(core.methods.registry, "paint", painted)
+    with small_disk(tmp_path / "disk", "2M") as disk:
+        (disk / "big.bin").write_bytes(bytes(1_500_000))
+        out = disk / "out"
+        out.mkdir()
+        (out / "notes.txt").write_text("the user's own file\n")
+        before = snapshot(disk)
+        t0 = time.monotonic()
+        status = main(["paint", str(photo_16mp), "-o", str(out), "-q", "--max-memory", "100G"])
+        elapsed = time.monotonic() - t0
+        err = capfd.readouterr().err
+        assert snapshot(disk) == before
+    assert elapsed < 1.0, elapsed
+    assert status == 2
+    assert_one_sentence(err, "not enough space is left on the device", "KB free", "needs at least 46 MB",
+                        "4000 x 4000")
+    assert_named_once(err, out)
+
+
+def test_no_space_is_refused_before_painting_on_any_machine(inputs, folder, monkeypatch, capfd):
+    """The same refusal without mounting anything: the file system says it has 100 KB free."""
+    import shutil as shutil_module
+
+    import core.methods.registry
+
+    out, before = folder
+    monkeypatch.setattr(core.methods.registry, "paint", lambda *a, **k: pytest.fail("painting started"))
+    monkeypatch.setattr(shutil_module, "disk_usage", lambda path: shutil_module._ntuple_diskusage(1 << 30, 1 << 30,
+                                                                                                  100 * 1024))
+    io.write_png(out.parent / "wide.png", np.full((400, 500, 3), 0.5, np.float32))
+    assert main(["paint", str(out.parent / "wide.png"), "-o", str(out), "-q"]) == 2
+    err = capfd.readouterr().err
+    assert_one_sentence(err, "not enough space", "100 KB free", "586 KB")
+    assert_named_once(err, out)
+    assert snapshot(out) == before
+
+
+@pytest.mark.parametrize("size", ["16k", "40k", "100k"])
+def test_a_disk_found_full_while_writing_is_named_as_one(inputs, tmp_path, size):
+    """Enough space for the estimate, too little for the painting: one sentence with the cause and the user's
+    folder, without the libraries' own messages or the staging names, and the folder as it was."""
+    with small_disk(tmp_path / "disk", size) as disk:
+        out = disk / "out"
+        out.mkdir()
+        (out / "notes.txt").write_text("the user's own file\n")
+        before = snapshot(disk)
+        run = run_cli(["paint", inputs / "photo.png", "-o", out, "-q"])
+        after = snapshot(disk)
+    assert run.returncode == 2, run.stderr
+    assert re.fullmatch(rf"paint-relief: error: Cannot write [a-z_]+\.(exr|png|json) into the output folder "
+                        rf"{re.escape(str(out))}: no space is left on the device; the folder was left as it was\.\n",
+                        run.stderr), run.stderr
+    assert after == before
+
+
+@pytest.mark.parametrize("name, command", [("painting.png", "paint"), ("color.exr", "paint"),
+                                           ("normal.exr", "paint --normal-map"), ("importance.exr", "analyze")])
+def test_something_in_the_way_is_refused_before_painting(inputs, folder, monkeypatch, capfd, name, command):
+    import core.cli
+    import core.methods.registry
+
+    out, _ = folder
+    if (out / name).exists():
+        (out / name).unlink()
+    (out / name).mkdir()
+    (out / name / "inside.txt").write_text("keep me")
+    before = snapshot(out)
+    monkeypatch.setattr(core.methods.registry, "paint", lambda *a, **k: pytest.fail("painting started"))
+    monkeypatch.setattr(core.cli, "analyze", lambda *a, **k: pytest.fail("analysis started"))
+    words = command.split()
+    assert main([words[0], str(inputs / "photo.png"), "-o", str(out), "-q"] + words[1:]) == 2
+    err = capfd.readouterr().err
+    assert_one_sentence(err, "folder of that name is in the way")
+    assert_named_once(err, out / name)
+    assert snapshot(out) == before
+
+
+@pytest.mark.parametrize("kind, words", [("missing", ["does not exist"]), ("empty", ["is empty"]),
+                                         ("folder", ["is a folder"])])
+def test_a_missing_or_empty_mask_is_called_a_mask(inputs, folder, capfd, kind, words):
+    out, before = folder
+    mask = out.parent / "mask.png"
+    if kind == "empty":
+        mask.write_bytes(b"")
+    elif kind == "folder":
+        mask.mkdir()
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--mask", str(mask)]) == 2
+    err = capfd.readouterr().err
+    assert_one_sentence(err, "The mask", *words)
+    assert "input file" not in err
+    assert_named_once(err, mask)
+    assert snapshot(out) == before
+
+
+@pytest.mark.parametrize("locked", ["file", "folder above"])
+def test_an_unreadable_input_says_permission_is_denied(inputs, tmp_path, locked):
+    """Mode 000 on the file (or its folder) as a user the permissions apply to (root without its override)."""
+    if os.geteuid() != 0:
+        pytest.skip("needs root to drop its permission override in the child")
+    private = tmp_path / "private"
+    private.mkdir()
+    photo = private / "photo.png"
+    shutil.copy(inputs / "photo.png", photo)
+    out = tmp_path / "out"
+    os.chmod(photo if locked == "file" else private, 0)
+    try:
+        run = run_cli(["paint", photo, "-o", out, "-q"], preexec_fn=_without_root_override)
+    finally:
+        os.chmod(photo if locked == "file" else private, 0o755)
+    assert run.returncode == 2
+    assert_one_sentence(run.stderr, "The input file", "permission denied")
+    assert_named_once(run.stderr, photo)
+    assert "Could not open" not in run.stderr and not out.exists()
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="no /proc on this system")
+def test_an_existing_folder_where_no_file_can_be_created(inputs, capfd):
+    assert main(["paint", str(inputs / "photo.png"), "-o", "/proc/self", "-q"]) == 2
+    err = capfd.readouterr().err
+    assert_one_sentence(err, "no file can be created")
+    assert_named_once(err, "/proc/self")
+    assert "no such file" not in err.lower()
 
 
 # --- signals, kills, stale remains, concurrent writers ------------------------------------------------------------

@@ -1,11 +1,13 @@
-"""Memory budgets decided before any work: what a run will need against what the machine has.
+"""Memory and disk budgets decided before any work: what a run will need against what the machine has.
 
 ``estimate_bytes`` counts the full-image arrays a run holds at its peak, per
 pixel, plus a fixed base for the libraries and the free heap kept for reuse; ``available_bytes`` reads what
 the machine can give (``MemAvailable`` of /proc/meminfo, a cgroup limit,
 RLIMIT_AS); ``check`` refuses with one sentence when the estimate is above
-the limit. All of it reads only the image's header, so a refusal takes well
-under a second whatever the image's size.
+the limit. ``check_space`` does the same for the bytes a painting writes
+against the free space of the output folder's file system. All of it reads
+only the image's header, so a refusal takes well under a second whatever the
+image's size.
 """
 
 from __future__ import annotations
@@ -14,9 +16,10 @@ import math
 import os
 import pathlib
 import re
+import shutil
 from typing import Optional
 
-from ..errors import InputError, ParameterError
+from ..errors import InputError, OutputError, ParameterError
 from ..heap import TRIM_THRESHOLD
 
 # Bytes per pixel of the arrays alive at a run's peak (float32 unless said).
@@ -131,14 +134,40 @@ def format_megapixels(pixels: int) -> str:
 
 
 def check_stroke_sizes(params, height: int, width: int) -> None:
-    """ParameterError when a stroke size, scaled to this image, is wider than the image's longer side."""
-    from ..params import scaled_sizes
+    """ParameterError when a stroke size, scaled to this image, is larger than the image: refused, never dropped.
 
-    longest = max(int(height), int(width))
-    widest = max(scaled_sizes(params, height, width))
-    if widest > max(longest, 2):
-        raise ParameterError(f"The largest stroke size {max(params.stroke_sizes)} px becomes {widest} px on this "
-                             f"{width} x {height} image, wider than the image itself.")
+    A size is larger than the image when its brush, scaled to the image
+    (``params.scaled_sizes``), is wider than the image's longer side, or
+    wider than its shorter side and wider than the largest default brush
+    scaled alike: so ``--sizes 900`` on a 96 x 72 image (a 75 px brush) is
+    refused, while the defaults paint any image, a 1 x 4000 strip included.
+    The sentence names the option (--sizes, the panel's Stroke Sizes).
+    """
+    from ..params import Params, scaled_sizes
+
+    longest, shortest = max(int(height), int(width)), min(int(height), int(width))
+    default_widest = max(scaled_sizes(Params(), height, width))
+    limit = max(shortest, default_widest)
+    for size in sorted(params.stroke_sizes, reverse=True):
+        scaled = scaled_sizes(params.replace(stroke_sizes=(size,)), height, width)[0]
+        if scaled <= limit:
+            continue
+        what = (f"The stroke size {size} in --sizes (the panel's Stroke Sizes) becomes {scaled} px "
+                f"on this {width} x {height} image")
+        if scaled > max(longest, 2):
+            raise ParameterError(f"{what}, wider than the image itself.")
+        raise ParameterError(f"{what}, larger than the image's {shortest} px side; sizes are px at 1 megapixel, "
+                             f"so give sizes up to {_largest_fitting(params, height, width, limit)}.")
+
+
+def _largest_fitting(params, height: int, width: int, side: int) -> int:
+    """The largest stroke size (px at 1 megapixel) whose brush, scaled to a ``width`` x ``height`` image, is at
+    most ``side`` px wide."""
+    scale = math.sqrt(int(height) * int(width) / (params.size_reference_megapixels * 1e6))
+    size = max(1, int((side + 0.5) / scale))
+    while size > 1 and round(size * scale) > side:
+        size -= 1
+    return size
 
 
 def check_bomb(path, width: int, height: int) -> None:
@@ -169,4 +198,53 @@ def check(path, width: int, height: int, layers: int = 4, mask: bool = False,
     if limit is not None and need > limit:
         raise InputError(f"Painting {path} ({width} x {height} pixels, {format_megapixels(width * height)}) "
                          f"needs about {format_bytes(need)} of memory, more than {what}.")
+    return need
+
+
+OUTPUT_BYTES_PER_PIXEL = 3.0
+"""Bytes a painting's folder takes per image pixel, at the least (normal.exr not counted).
+
+Measured on painted folders (maps, PNGs, strokes.json, report): a flat gray
+400 x 300 image 8.6 bytes per pixel, the 451 x 300 cat photograph 24, a
+200 x 150 image of noise 62; larger images hold fewer strokes per pixel and
+smoother maps. The figure is a floor, so a refusal for lack of space is
+certain; a disk that fills up anyway is reported when writing, and the
+folder is left as it was (``staging``)."""
+NORMAL_BYTES_PER_PIXEL = 1.0
+"""normal.exr's floor in bytes per pixel (1.9 for the flat image above, 3.8 for the cat)."""
+
+
+def estimate_output_bytes(width: int, height: int, normal_map: bool = False) -> int:
+    """The fewest bytes painting a ``width`` x ``height`` image writes (every output file together)."""
+    per_pixel = OUTPUT_BYTES_PER_PIXEL + (NORMAL_BYTES_PER_PIXEL if normal_map else 0.0)
+    return int(math.ceil(int(width) * int(height) * per_pixel))
+
+
+def free_bytes(folder) -> Optional[int]:
+    """Bytes this process may still write on the file system of ``folder`` (or of its nearest existing parent,
+    when it does not exist yet); None when that cannot be told, as on system file systems such as /proc, which
+    have no size at all."""
+    path = pathlib.Path(os.path.abspath(folder))
+    while not path.exists() and path.parent != path:
+        path = path.parent
+    try:
+        usage = shutil.disk_usage(path)
+    except OSError:
+        return None
+    return usage.free if usage.total > 0 else None
+
+
+def check_space(folder, source, width: int, height: int, normal_map: bool = False) -> int:
+    """Refuse (OutputError, one sentence naming ``folder``) painting ``source`` into ``folder`` when its file
+    system has less free space than the painting will take; returns the estimate in bytes.
+
+    The whole new painting is written before the files it replaces go, so
+    the files already in ``folder`` do not count as free.
+    """
+    need = estimate_output_bytes(width, height, normal_map)
+    free = free_bytes(folder)
+    if free is not None and need > free:
+        raise OutputError(f"Cannot paint {source} into the output folder {folder}: not enough space is left on "
+                          f"the device, {format_bytes(free)} free where painting its {width} x {height} pixels "
+                          f"needs at least {format_bytes(need)}.")
     return need

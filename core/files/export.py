@@ -121,7 +121,7 @@ def ensure_normal_map(folder: Path) -> Path:
     return path
 
 
-def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False) -> dict:
+def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False, pages: int = 1) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
     The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
@@ -135,7 +135,8 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     painting.png the painting, 8-bit sRGB
     lit_paper.png the painting lit by the paper's Eq. 6-7 at strength PAPER_STRENGTH, 8-bit sRGB
     strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
-    report.json  figures of the run, and the size and SHA-256 of every other file above
+    report.json  figures of the run, the input ("input"; "input_page" 0, the image painted, of its
+                 "input_pages" ``pages`` images), and the size and SHA-256 of every other file above
                  ("files"), so a folder can be checked to hold one complete painting
     normal.exr   only with ``normal_map``: RGB, tangent-space normals of the height field
                  (lighting.normal_map at relief DEFAULT_RELIEF px per height unit; OpenGL
@@ -171,7 +172,7 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
         files[NORMAL_FILE] = file_digest(folder / NORMAL_FILE)
     report = dict(painting.statistics)
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
-    report.update({"input": str(source), "params": painting.params.to_dict(),
-                   "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
+    report.update({"input": str(source), "input_page": 0, "input_pages": int(pages),
+                   "params": painting.params.to_dict(), "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
     io.write_json(folder / "report.json", report)
     return report

@@ -19,7 +19,7 @@ import os
 import pathlib
 from typing import Optional
 
-from ..errors import OutputError
+from ..errors import OutputError, plain_cause
 
 LOCK_NAME = ".paint-relief.lock"
 
@@ -112,7 +112,7 @@ def acquire(folder: pathlib.Path, attempts: int = 20) -> FolderLock:
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
         except OSError as exc:
-            raise OutputError(f"Cannot lock the output folder {folder}: {(exc.strerror or str(exc)).lower()}.") from exc
+            raise OutputError(f"Cannot write to output folder {folder}: {plain_cause(exc, folder)}.") from exc
         if not _try_lock(fd):
             os.close(fd)
             owner = _owner(path)

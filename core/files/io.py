@@ -15,6 +15,8 @@ import os
 import pathlib
 import re
 import secrets
+import stat
+import struct
 from dataclasses import dataclass
 from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
@@ -22,7 +24,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 from ..colour import linear_to_srgb, luminance
-from ..errors import InputError, OutputError
+from ..errors import InputError, OutputError, plain_cause
 from ..params import CANVAS_COLOUR
 from . import quiet
 
@@ -42,10 +44,19 @@ _CHANNEL_ORDER_ATTR = "paint_relief:channel_order"
 # messages
 
 
-def _reason(text: str, fallback: str) -> str:
-    """First non-empty line of an OpenImageIO error, without a trailing full stop."""
+def _reason(text: str, fallback: str, *paths) -> str:
+    """The first sentence of a library's error text, without the file names ``paths`` and a trailing full stop.
+
+    OpenImageIO and its libraries name the file in their messages ('... ("/a/b.jpg")', 'image file "/a/.b.tmp.exr".
+    File output failed.'); our sentence names it already, so the names are dropped and only the first of their
+    sentences is kept.
+    """
     for line in (text or "").splitlines():
-        line = line.strip().rstrip(".").strip()
+        for path in sorted({os.fspath(p) for p in paths}, key=len, reverse=True):
+            for form in (f' ("{path}")', f' "{path}"', f'"{path}"', f" ({path})", f" {path}", path):
+                line = line.replace(form, "")
+        line = re.split(r"(?<=[a-z0-9)])\.\s", line.strip())[0]
+        line = " ".join(line.split()).rstrip(":.").strip()
         if line:
             return line
     return fallback
@@ -63,16 +74,38 @@ def _oiio_error(obj=None) -> str:
 # reading
 
 
-def _check_input_path(path: pathlib.Path) -> None:
-    """Raise InputError when ``path`` is missing, a dangling symbolic link, a folder or an empty file."""
-    if path.is_symlink() and not path.exists():
-        raise InputError(f"The input file {path} is a symbolic link whose target {os.readlink(path)} does not exist.")
-    if not path.exists():
-        raise InputError(f"The input file {path} does not exist.")
-    if path.is_dir():
-        raise InputError(f"The input {path} is a folder, not an image file.")
-    if path.stat().st_size == 0:
-        raise InputError(f"The input file {path} is empty (0 bytes).")
+def _noun(role: str) -> str:
+    """What a file of ``role`` ('input', 'mask', 'brush map') is called in a sentence about its pixels."""
+    return "image" if role == "input" else role
+
+
+def _check_input_path(path: pathlib.Path, role: str = "input") -> None:
+    """Raise InputError when ``path`` is missing, a dangling symbolic link, a folder, empty or not readable.
+
+    ``role`` names the file in the sentence: 'The input file ...', 'The mask file ...'.
+    """
+    what = f"The {role} file {path}"
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        if path.is_symlink():
+            raise InputError(f"{what} is a symbolic link whose target {os.readlink(path)} does not exist.") from None
+        raise InputError(f"{what} does not exist.") from None
+    except NotADirectoryError:
+        raise InputError(f"{what} does not exist: a part of its path is a file, not a folder.") from None
+    except PermissionError:
+        raise InputError(f"{what} cannot be reached: permission denied on a folder above it.") from None
+    except OSError as exc:
+        raise InputError(f"{what} cannot be read: {plain_cause(exc)}.") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(f"The {role} {path} is a folder, not an image file.")
+    if info.st_size == 0:
+        raise InputError(f"{what} is empty (0 bytes).")
+    try:
+        with open(path, "rb"):
+            pass
+    except OSError as exc:
+        raise InputError(f"{what} cannot be read: {plain_cause(exc)}.") from None
 
 
 def _is_linear(path: pathlib.Path, format_name: str, spec) -> bool:
@@ -87,37 +120,38 @@ URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
 """A URL's scheme (https://, file://, s3://): the painter reads local files only."""
 
 
-def local_path(path: PathLike) -> pathlib.Path:
+def local_path(path: PathLike, role: str = "input") -> pathlib.Path:
     """``path`` as a Path; InputError when it is a URL (the text is kept whole in the sentence)."""
     text = os.fspath(path)
     if URL.match(text):
-        raise InputError(f"The input {text} is a URL, which is not supported: download the image and give its file.")
+        raise InputError(f"The {role} {text} is a URL, which is not supported: download the {_noun(role)} "
+                         f"and give its file.")
     return pathlib.Path(text)
 
 
 @contextlib.contextmanager
-def _opened(path: pathlib.Path, max_megapixels: float, config=None) -> Iterator[tuple]:
+def _opened(path: pathlib.Path, max_megapixels: float, config=None, role: str = "input") -> Iterator[tuple]:
     """The first image of ``path`` opened with the libraries' own messages captured: yields
     (ImageInput, its ImageSpec checked against ``max_megapixels``, the captured messages) and closes it.
 
-    A missing, empty, unreadable or too large file raises InputError naming it.
+    A missing, empty, unreadable or too large file raises InputError naming it as ``role`` ('input', 'mask').
     """
-    _check_input_path(path)
+    _check_input_path(path, role)
     oiio.geterror()  # drop any stale global error
     with quiet.captured() as printed:
         inp = oiio.ImageInput.open(str(path), config) if config is not None else oiio.ImageInput.open(str(path))
         if inp is None:
-            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read")
-            raise InputError(f"Cannot read the image {path}: {why}.")
+            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read", path)
+            raise InputError(f"Cannot read the {_noun(role)} {path}: {why}.")
         try:
             spec = inp.spec()
-            _check_spec(path, spec, max_megapixels)
+            _check_spec(path, spec, max_megapixels, role)
             yield inp, spec, printed
         finally:
             inp.close()
 
 
-def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, bool, bool]:
+def _read_pixels(path: PathLike, max_megapixels: float, role: str = "input") -> Tuple[np.ndarray, bool, bool]:
     """Read the first subimage, mip level 0, of any file OpenImageIO reads.
 
     Returns ``(data, has_alpha, linear)``: ``data`` float32 (H, W, C) with
@@ -125,16 +159,17 @@ def _read_pixels(path: PathLike, max_megapixels: float) -> Tuple[np.ndarray, boo
     float data as stored); alpha, if any, is the last channel of the first
     two (gray + alpha) or four (RGBA) and the colour is straight (not
     premultiplied). ``linear`` says the colour values are scene-linear.
+    Sentences call the file by ``role`` ('input', 'mask').
     """
-    path = local_path(path)
+    path = local_path(path, role)
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
-    with _opened(path, max_megapixels, config) as (inp, spec, _):
-        data = upright(_read_first_image(path, inp, spec), spec.get_int_attribute("Orientation", 1))
+    with _opened(path, max_megapixels, config, role) as (inp, spec, _):
+        data = upright(_read_first_image(path, inp, spec, role), spec.get_int_attribute("Orientation", 1))
         linear = _is_linear(path, inp.format_name(), spec)
         associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
     if not np.all(np.isfinite(data)):
-        raise InputError(f"The image {path} holds NaN or infinite values.")
+        raise InputError(f"The {_noun(role)} {path} holds NaN or infinite values.")
     data, has_alpha = _select_channels(data)
     if has_alpha and associated:
         data = _unpremultiply(data)
@@ -163,31 +198,31 @@ def upright(data: np.ndarray, orientation: int) -> np.ndarray:
     return np.ascontiguousarray(ops[orientation](data))
 
 
-def _check_spec(path: pathlib.Path, spec, max_megapixels: float) -> None:
+def _check_spec(path: pathlib.Path, spec, max_megapixels: float, role: str = "input") -> None:
     """Refuse empty images and images above the pixel limit, before reading any pixel."""
     if spec.width <= 0 or spec.height <= 0 or spec.nchannels <= 0:
-        raise InputError(f"The image {path} is empty ({spec.width} x {spec.height} pixels).")
+        raise InputError(f"The {_noun(role)} {path} is empty ({spec.width} x {spec.height} pixels).")
     megapixels = spec.width * spec.height / 1e6
     if megapixels > max_megapixels:
         raise InputError(
-            f"The image {path} has {megapixels:g} megapixels ({spec.width} x {spec.height}), "
+            f"The {_noun(role)} {path} has {megapixels:g} megapixels ({spec.width} x {spec.height}), "
             f"more than the limit of {max_megapixels:g} megapixels.")
 
 
-def _read_first_image(path: pathlib.Path, inp, spec) -> np.ndarray:
+def _read_first_image(path: pathlib.Path, inp, spec, role: str = "input") -> np.ndarray:
     """Pixels of subimage 0, mip 0 as float32 (H, W, C); InputError when reading fails or is partial."""
     native = {"uint8": np.uint8, "uint16": np.uint16}.get(str(spec.format))
     fmt = str(spec.format) if native is not None else "float"
     pixels = inp.read_image(0, 0, 0, spec.nchannels, fmt)
     error = inp.geterror() if inp.has_error else ""
     if pixels is None or error:
-        why = _reason(error or oiio.geterror(), "the pixel data could not be read")
-        raise InputError(f"Cannot read the image {path}: {why}.")
+        why = _reason(error or oiio.geterror(), "the pixel data could not be read", path)
+        raise InputError(f"Cannot read the {_noun(role)} {path}: {why}.")
     pixels = np.asarray(pixels)
     if pixels.ndim == 2 and spec.nchannels == 1:
         pixels = pixels[:, :, None]
     if pixels.shape != (spec.height, spec.width, spec.nchannels):
-        raise InputError(f"Cannot read the image {path}: the pixel data has the wrong size {pixels.shape}.")
+        raise InputError(f"Cannot read the {_noun(role)} {path}: the pixel data has the wrong size {pixels.shape}.")
     if native is not None:
         return pixels.astype(np.float32) / np.float32(np.iinfo(native).max)
     return pixels.astype(np.float32, copy=False)
@@ -216,14 +251,62 @@ def _to_srgb(colour: np.ndarray, linear: bool) -> np.ndarray:
     return np.clip(colour, 0.0, 1.0).astype(np.float32)
 
 
-def probe(path: PathLike, max_megapixels: float = float("inf")) -> Tuple[int, int, int]:
+def probe(path: PathLike, max_megapixels: float = float("inf"), role: str = "input") -> Tuple[int, int, int]:
     """(width, height, channels) of the first image in ``path``, from its header alone (no pixel is decoded).
 
     Same InputError rules as ``read_image`` for missing, empty, unreadable
-    and too large files.
+    and too large files; sentences call the file by ``role`` ('input', 'mask').
     """
-    with _opened(local_path(path), max_megapixels) as (_, spec, _):
+    with _opened(local_path(path, role), max_megapixels, role=role) as (_, spec, _):
         return int(spec.width), int(spec.height), int(spec.nchannels)
+
+
+def image_count(path: PathLike) -> int:
+    """How many images ``path`` holds, from its headers: the pages of a TIFF, the parts of an EXR, the frames of
+    a GIF or of an animated PNG; 1 for a plain picture. The painter paints the first of them (subimage 0).
+
+    Counting stops at MAX_COUNTED. Same InputError rules as ``probe``.
+    """
+    path = local_path(path)
+    frames = _apng_frames(path)
+    with _opened(path, float("inf")) as (inp, spec, _):
+        count = spec.get_int_attribute("oiio:subimages", 0)
+        if count <= 0:
+            count = 1
+            while count < MAX_COUNTED and inp.seek_subimage(count, 0):
+                count += 1
+            inp.geterror()  # the failed seek past the last image leaves an error message
+    return max(count, frames)
+
+
+MAX_COUNTED = 10_000
+"""``image_count`` counts at most this many images."""
+
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _apng_frames(path: pathlib.Path) -> int:
+    """The images of an animated PNG (OpenImageIO reads only its default image): the frame count of its acTL
+    chunk, plus the default image when that is not a frame (no fcTL before the first IDAT); 0 for other files."""
+    frames, framed = 0, False
+    try:
+        with open(path, "rb") as f:
+            if f.read(8) != _PNG_SIGNATURE:
+                return 0
+            while True:
+                head = f.read(8)
+                if len(head) < 8:
+                    return 0
+                length, kind = struct.unpack(">I4s", head)
+                if kind == b"IDAT":
+                    return frames + (0 if framed else 1) if frames else 0
+                if kind == b"acTL":
+                    frames = struct.unpack(">I", f.read(4))[0]
+                    length -= 4
+                framed = framed or kind == b"fcTL"
+                f.seek(length + 4, os.SEEK_CUR)  # the chunk's data and its CRC
+    except (OSError, struct.error):
+        return 0
 
 
 def read_image(path: PathLike, max_megapixels: float = 50.0,
@@ -260,7 +343,7 @@ def read_image(path: PathLike, max_megapixels: float = 50.0,
     return np.ascontiguousarray(rgb, dtype=np.float32)
 
 
-def read_gray(path: PathLike, max_megapixels: float = 50.0) -> np.ndarray:
+def read_gray(path: PathLike, max_megapixels: float = 50.0, role: str = "input") -> np.ndarray:
     """Read a mask or brush map as float32 (H, W) values in [0, 1].
 
     Gray files give their value; colour files the Rec.709 luminance of their
@@ -268,9 +351,9 @@ def read_gray(path: PathLike, max_megapixels: float = 50.0) -> np.ndarray:
     (integer data / maximum; scene-linear files such as EXR go through the
     sRGB curve, including one-channel ones). Alpha, if present, multiplies
     the value, so transparent pixels read as 0. Same InputError rules as
-    ``read_image``.
+    ``read_image``; sentences call the file by ``role`` ('mask', 'brush map').
     """
-    data, has_alpha, linear = _read_pixels(path, max_megapixels)
+    data, has_alpha, linear = _read_pixels(path, max_megapixels, role)
     colour_channels = data.shape[2] - (1 if has_alpha else 0)
     values = _to_srgb(data[:, :, :colour_channels], linear)
     gray = values[:, :, 0] if colour_channels == 1 else luminance(values)
@@ -296,7 +379,7 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
         names = list(spec.channelnames)
         attributes = {a.name: a.value for a in spec.extra_attribs}
     if pixels is None or error:
-        why = _reason(error or oiio.geterror() or printed.text, "the pixel data could not be read")
+        why = _reason(error or oiio.geterror() or printed.text, "the pixel data could not be read", path)
         raise InputError(f"Cannot read the image {path}: {why}.")
     data = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
     if not np.all(np.isfinite(data)):
@@ -347,7 +430,8 @@ def atomic_path(path: PathLike) -> Iterator[pathlib.Path]:
         os.replace(temp, path)
     except OSError as exc:
         _remove_quietly(temp)
-        raise OutputError(f"Cannot write {path}: {_reason(exc.strerror or str(exc), 'the file could not be replaced')}.") from exc
+        cause = plain_cause(exc)
+        raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause) from exc
 
 
 def _remove_quietly(path: pathlib.Path) -> None:
@@ -373,8 +457,7 @@ def ensure_output_dir(path: PathLike) -> pathlib.Path:
             pass
         probe.unlink()
     except OSError as exc:
-        why = _reason(exc.strerror or str(exc), "it is not writable").lower()
-        raise OutputError(f"Cannot write to output folder {folder}: {why}.") from exc
+        raise OutputError(f"Cannot write to output folder {folder}: {plain_cause(exc)}.") from exc
     return folder
 
 
@@ -454,7 +537,7 @@ def _write_with_oiio(path: pathlib.Path, spec, image: RowBlocks,
         oiio.geterror()
         out = oiio.ImageOutput.create(str(temp))
         if out is None:
-            raise OutputError(f"Cannot write {path}: {_reason(oiio.geterror(), 'no writer for this file type')}.")
+            raise OutputError(f"Cannot write {path}: {_reason(oiio.geterror(), 'no writer for this file type', temp)}.")
         try:
             ok = out.open(str(temp), spec)
             for y0, y1, block in image.blocks() if ok else ():
@@ -466,8 +549,31 @@ def _write_with_oiio(path: pathlib.Path, spec, image: RowBlocks,
         finally:
             closed = out.close()
         if not ok or not closed:
-            why = _reason(error or _oiio_error(out) or printed.text, "the image could not be written")
-            raise OutputError(f"Cannot write {path}: {why}.")
+            cause = write_failure_cause(temp) or _reason(error or _oiio_error(out) or printed.text,
+                                                         "the image could not be written", temp, path)
+            raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause)
+
+
+PROBE_BYTES = 1 << 20
+"""Bytes appended to a file a library failed to write, to learn the operating system's reason."""
+
+
+def write_failure_cause(temp: pathlib.Path) -> Optional[str]:
+    """Why writing the temporary file ``temp`` failed, in plain words ('no space is left on the device'), or None.
+
+    OpenEXR, libpng and libjpeg report only that writing failed ('Failed to write pixel data ... File output
+    failed'). The file is about to be deleted anyway, so PROBE_BYTES more are appended to it and flushed: the
+    error the operating system gives (no space, a quota, the file size limit, a device error) is the cause.
+    None when that write goes through (the library failed for a reason of its own).
+    """
+    try:
+        with open(temp, "ab") as f:
+            f.write(bytes(PROBE_BYTES))
+            f.flush()
+            os.fsync(f.fileno())
+    except OSError as exc:
+        return plain_cause(exc)
+    return None
 
 
 def write_exr(path: PathLike, data: Union[np.ndarray, RowBlocks], channels: Optional[Sequence[str]] = None,
@@ -566,4 +672,5 @@ def write_text(path: PathLike, text: str) -> None:
         try:
             temp.write_text(text, encoding="utf-8")
         except OSError as exc:
-            raise OutputError(f"Cannot write {path}: {_reason(exc.strerror or str(exc), 'the file could not be written')}.") from exc
+            cause = plain_cause(exc)
+            raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause) from exc

@@ -39,7 +39,7 @@ import secrets
 import shutil
 from typing import Iterator, List, Optional
 
-from ..errors import OutputError
+from ..errors import OutputError, plain_cause
 from . import folderlock, signals
 
 STAGING_PREFIX = ".staging-"
@@ -49,8 +49,8 @@ _PROBE_PREFIX = ".paint-relief-probe-"
 
 
 def _why(exc: OSError) -> str:
-    """The lower-case reason of an OSError, without a full stop."""
-    return (exc.strerror or str(exc)).strip().rstrip(".").lower()
+    """The lower-case reason of an OSError in plain words, without a full stop."""
+    return plain_cause(exc)
 
 
 def _fsync_file(path: pathlib.Path) -> None:
@@ -175,7 +175,9 @@ class OutputFolder:
 
         On an exception (or a signal) the staging folder is removed and the
         folder keeps exactly the files it had. A file name whose target is a
-        folder raises OutputError before anything is replaced.
+        folder raises OutputError before anything is replaced. A file that
+        could not be written in the staging folder (a full disk) is reported
+        by its name and this folder, never by its hidden staging path.
         """
         staging = self.folder / f"{STAGING_PREFIX}{os.getpid()}-{secrets.token_hex(4)}"
         try:
@@ -187,11 +189,18 @@ class OutputFolder:
             names = sorted(p.name for p in staging.iterdir())
             self._check_targets(names)
             for name in names:
-                _fsync_file(staging / name)
+                try:
+                    _fsync_file(staging / name)
+                except OSError as exc:
+                    raise OutputError(f"Cannot write {name}: {_why(exc)}.", staging / name, _why(exc)) from exc
             _fsync_dir(staging)
-        except BaseException:
+        except BaseException as exc:
             with signals.deferred():
                 shutil.rmtree(staging, ignore_errors=True)
+            if isinstance(exc, OutputError) and exc.path is not None and pathlib.Path(exc.path).parent == staging:
+                raise OutputError(f"Cannot write {pathlib.Path(exc.path).name} into the output folder {self.folder}: "
+                                  f"{exc.cause or 'it could not be written'}; the folder was left as it was.",
+                                  self.folder / pathlib.Path(exc.path).name, exc.cause) from exc
             raise
         try:
             with signals.deferred():
@@ -206,6 +215,11 @@ class OutputFolder:
             if self.committed:
                 exc.committed = str(self.folder)
             raise
+
+    def check_names(self, names: List[str]) -> None:
+        """OutputError (one sentence naming the path) when something stands where one of the files ``names`` must
+        go and could not be replaced: called before any work, so nothing is painted in vain."""
+        self._check_targets(names)
 
     def _check_targets(self, names: List[str]) -> None:
         """OutputError when a target name is taken by a folder (a rename could not replace it)."""
