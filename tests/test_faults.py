@@ -689,6 +689,22 @@ def big_photo(tmp_path_factory):
     return path
 
 
+def wait_for_lock(folder, process, timeout=60.0):
+    """Wait until ``process`` holds the lock of ``folder`` (its pid in the lock file), however slow its start."""
+    from core.files.folderlock import LOCK_NAME
+
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        try:
+            if (Path(folder) / LOCK_NAME).read_text().strip() == str(process.pid):
+                return
+        except OSError:
+            pass
+        assert process.poll() is None, "the first writer ended before it took the lock"
+        time.sleep(0.02)
+    raise AssertionError(f"process {process.pid} did not lock {folder} within {timeout} s")
+
+
 def _start(args):
     env = dict(os.environ, PYTHONPATH=str(REPO), PYTHONDONTWRITEBYTECODE="1")
     return subprocess.Popen([sys.executable, "-m", "core"] + [str(a) for a in args], stdout=subprocess.PIPE,
@@ -776,7 +792,7 @@ def test_torn_journal_is_discarded(inputs, folder):
 def test_two_concurrent_writers(big_photo, folder):
     out, _ = folder
     first = _start(["paint", big_photo, "-o", out, "-q", "--seed", "2"])
-    time.sleep(0.6)
+    wait_for_lock(out, first)
     second = _start(["paint", big_photo, "-o", out, "-q", "--seed", "3"])
     _, err2 = second.communicate(timeout=120)
     _, err1 = first.communicate(timeout=120)
@@ -789,7 +805,7 @@ def test_two_concurrent_writers(big_photo, folder):
 def test_analyze_and_paint_share_the_lock(big_photo, folder):
     out, _ = folder
     first = _start(["paint", big_photo, "-o", out, "-q", "--seed", "2"])
-    time.sleep(0.6)
+    wait_for_lock(out, first)
     second = run_cli(["analyze", big_photo, "-o", out, "-q"])
     first.communicate(timeout=120)
     assert second.returncode == 2 and "being written" in second.stderr
