@@ -38,6 +38,9 @@ MASK_BYTES_PER_PIXEL = 16
 """A user mask: the decoded file and its float32 copy, resized to the image."""
 BASE_BYTES = 200 * 2**20
 """Python, NumPy, SciPy and OpenImageIO themselves, and the stroke list."""
+ROUND_BYTES = 320 * 2**20
+"""A round of strokes at work, whatever the image size: its chunks of anchors, plans and footprints
+(``core.strokes.rounds`` bounds each), measured at about 250 bytes a track sample of a laying chunk."""
 HEAP_BYTES = TRIM_THRESHOLD
 """Freed memory the C heap keeps for reuse while painting (``core.heap``), at most this."""
 
@@ -56,7 +59,7 @@ def estimate_bytes(width: int, height: int, layers: int = 4, mask: bool = False)
     """
     pixels = int(width) * int(height)
     per_pixel = BYTES_PER_PIXEL + (MASK_BYTES_PER_PIXEL if mask else 0)
-    return BASE_BYTES + HEAP_BYTES + pixels * per_pixel + max(0, int(layers) - 16) * 2**20
+    return BASE_BYTES + ROUND_BYTES + HEAP_BYTES + pixels * per_pixel + max(0, int(layers) - 16) * 2**20
 
 
 def _meminfo_available() -> Optional[int]:
