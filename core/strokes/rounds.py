@@ -66,11 +66,11 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
                    for i in range(len(anchors))]
         for plan in planned:
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
-        return [stroke for plan in planned for stroke in records(plan, anchors_of(plan), size, layer)]
+        return [stroke for plan in planned for stroke in records(plan, size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
     for first, stop in lay_chunks(plan["paths"], tip, size):
         lay_round(canvas, chunk_of(plan, first, stop), size, tip, params)
-    return records(plan, anchors, size, layer)
+    return records(plan, size, layer)
 
 
 def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
@@ -130,11 +130,6 @@ def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray
             "angles": angles}
 
 
-def anchors_of(plan: dict) -> np.ndarray:
-    """(N, 2) the anchors a plan was made for."""
-    return plan["anchors"]
-
-
 def chunk_of(plan: dict, first: int, stop: int) -> dict:
     """The plan of strokes first .. stop - 1 of ``plan``."""
     paths = plan["paths"]
@@ -168,8 +163,8 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
         canvas.lay(footprints, params.height_mode, params.height_build)
 
 
-def records(plan: dict, anchors: np.ndarray, size: int, layer: int) -> List[Stroke]:
+def records(plan: dict, size: int, layer: int) -> List[Stroke]:
     """The ``Stroke`` records of a plan's strokes, in order."""
     paths = plan["paths"]
     return [Stroke(layer, (int(x), int(y)), int(size), paths.polyline(i), plan["anchor_colours"][i])
-            for i, (x, y) in enumerate(anchors.tolist())]
+            for i, (x, y) in enumerate(plan["anchors"].tolist())]
