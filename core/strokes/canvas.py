@@ -126,13 +126,18 @@ def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opac
     colour alpha and f = min(1, deposit / full) how fully its paint covers,
     so the opacity follows the bristles' real footprint and fades with them
     at the edges and ends. Height, with h the stroke's height:
-    'over'        H <- H + o h - o f H          (= o h + (1 - o) H where f = 1),
-    'accumulate'  H <- H + o h - o f (1 - b) H  (= o (h + b H) + (1 - o) H where f = 1),
+    'over'        H <- H + a (h - f H)          (= o h + (1 - o) H where f = 1),
+    'accumulate'  H <- H + a (h - f (1 - b) H)  (= o (h + b H) + (1 - o) H where f = 1),
     b = ``build`` in [0, 1), never below 0. Where the stroke covers fully
     this is the paper's weighted sum (or bounded build-up: H tends to
-    h / (1 - b) under repeated strokes); at its feathered edges and ends,
-    where f < 1, the thin paint lies on the old instead of replacing it, so a
-    stroke never digs a groove into the paint beneath. Opacity A = o + (1 - o) A.
+    h / (1 - b) under repeated strokes, and to h / (f (1 - b)), no more
+    than the full stroke's height / (1 - b), at its edges). At its feathered
+    edges and ends, where f < 1, the thin paint lies on the old instead of
+    replacing it, so a stroke never digs a groove into the paint beneath, and
+    it lies there as thick as it is (a h, not o h = a f h): two strokes
+    whose edges meet at half contact leave about as much paint as one
+    stroke's body, so crowded small strokes leave no groove between them.
+    Opacity A = o + (1 - o) A.
     """
     colour = colour * keep[..., None] + paint
     alpha = np.float32(1.0) - keep
@@ -140,6 +145,6 @@ def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opac
     fullness = np.minimum(deposit * inverse, np.float32(1.0))
     o = alpha * fullness
     loss = np.float32(1.0 if height_mode != "accumulate" else 1.0 - build)
-    height = np.maximum(height + (stroke_height - fullness * loss * height) * o, np.float32(0.0))
+    height = np.maximum(height + alpha * (stroke_height - fullness * loss * height), np.float32(0.0))
     opacity = opacity + (np.float32(1.0) - opacity) * o
     return colour, coverage, height, opacity
