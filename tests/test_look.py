@@ -88,6 +88,19 @@ def test_a_thin_dark_line_is_painted_by_strokes_along_it():
     assert dark.mean() > 0.5                                               # most of its length is drawn
 
 
+@pytest.mark.parametrize("layers", [2, 3, 5, 6])
+def test_a_drawn_line_stays_drawn_on_later_layers(layers):
+    # once the line is drawn, later layers leave it and its surroundings alone: a stroke beside it, wider
+    # than the line's spill it would mend, would spoil the line as much, and is not laid (the paper's rule
+    # lays it, and repaints some 170 strokes here on every layer)
+    image = np.full((200, 240, 3), 0.85, np.float32)
+    image[99:101, 20:220] = 0.1
+    painting = paint_small(image, layers=layers)
+    dark = painting.colour[99:101, 20:220].mean(axis=(0, 2)) < 0.5
+    assert dark.mean() > 0.8, dark.mean()
+    assert painting.statistics["strokes_per_layer"][layers - 1] < 0.1 * painting.statistics["strokes_per_layer"][0]
+
+
 def test_a_bright_disc_comes_out_round():
     yy, xx = np.mgrid[0:240, 0:240]
     image = np.full((240, 240, 3), 0.15, np.float32)

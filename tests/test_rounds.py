@@ -144,3 +144,56 @@ def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch
     chunked = huang11.paint(image, params)
     assert max(len(c) for c in chunks) > 3
     same_painting(whole, chunked)
+
+
+def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, params: Params) -> dict:
+    """The plan of one stroke of ``size`` px anchored at (x, y), colours taken from ``reference``."""
+    from core.strokes.brush import brush_tip, load_brush
+    from core.strokes.rounds import plan_round
+    from core.strokes.stroke import colour_sources
+    tip = brush_tip(load_brush(params.brush), size, params.transparency)
+    orientation = np.zeros(reference.shape[:2], np.float32)
+    plan = plan_round(canvas, colour_sources(reference, [size], params)[size], orientation,
+                      np.array([anchor]), size, tip, np.full((1, 4), 0.5), params)
+    return plan, tip
+
+
+def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: Params, reference: np.ndarray):
+    """Squared error mended and spoiled by one stroke, pixel by pixel in a Python loop."""
+    from core.strokes.rounds import footprints_of
+    fp = footprints_of(plan, size, tip, params, canvas.height.shape)
+    mended = spoiled = 0.0
+    for k in range(fp.starts[0], fp.starts[1]):
+        y, x = divmod(int(fp.pixel[k]), canvas.colour.shape[1])
+        before = canvas.colour[y, x].astype(np.float64)
+        after = before * float(fp.transmittance[k]) + fp.paint[k].astype(np.float64)
+        e0 = float(np.sum((before - reference[y, x]) ** 2))
+        e1 = float(np.sum((after - reference[y, x]) ** 2))
+        mended += max(0.0, e0 - e1)
+        spoiled += max(0.0, e1 - e0)
+    return mended, spoiled
+
+
+def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
+    from core.strokes.rounds import improves
+    params = Params(seed=1)
+    h, w, size = 40, 60, 8
+    light = np.full((h, w, 3), 0.8, np.float32)
+    # a stroke of the reference's colour over a canvas that misses it everywhere only mends
+    canvas = Canvas.blank((h, w), (0.2, 0.2, 0.2))
+    plan, tip = one_stroke_plan(light, canvas, (30, 20), size, params)
+    mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, light)
+    assert mended > 0 and spoiled == 0
+    assert improves(canvas, plan, size, tip, params, light).tolist() == [True]
+    # the same stroke over a canvas that already matches a dark line beside it: a light stroke anchored
+    # one row off a two-pixel dark line mends its own row and spoils the line
+    line = light.copy()
+    line[20:22] = 0.1
+    canvas = Canvas.blank((h, w), (0.8, 0.8, 0.8))
+    canvas.colour[20:22] = 0.1
+    canvas.colour[19] = 0.45                                            # the line's own stroke spilled here
+    plan, tip = one_stroke_plan(light, canvas, (30, 19), 2, params)
+    mended, spoiled = mend_and_spoil_by_hand(canvas, plan, 2, tip, params, line)
+    assert 0 < mended <= 2.0 * spoiled, (mended, spoiled)
+    assert improves(canvas, plan, 2, tip, params, line).tolist() == [False]
+    assert improves(canvas, plan, 2, tip, params.replace(mend_ratio=0.5 * mended / spoiled), line).tolist() == [True]

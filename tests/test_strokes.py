@@ -351,7 +351,7 @@ GRID = (2, 1, 9, 7)  # x0, y0, x1, y1 (half-open)
 
 def choose_anchor(grid, coverage, colour, reference, tc, td, tie=0.0):
     """The anchor (x, y) ``choose_anchors`` gives one grid, or None."""
-    anchors, chosen = choose_anchors(np.array([grid]), coverage, colour, smooth(reference, 0.0), tc, td,
+    anchors, chosen, _ = choose_anchors(np.array([grid]), coverage, colour, smooth(reference, 0.0), tc, td,
                                      np.array([tie]))
     return tuple(anchors[0].tolist()) if chosen[0] else None
 
@@ -402,7 +402,7 @@ def test_choose_anchors_of_many_grids_equal_each_grid_alone():
     reference[10:20, 20:30] = colour[10:20, 20:30]              # covered and satisfied: no stroke
     grids = np.array([[x, y, x + 10, y + 10] for y in (0, 10, 20) for x in (0, 10, 20, 30)])
     ties = rng.uniform(size=len(grids))
-    anchors, chosen = choose_anchors(grids, coverage, colour, smooth(reference, 0.0), 0.5, 0.1, ties)
+    anchors, chosen, _ = choose_anchors(grids, coverage, colour, smooth(reference, 0.0), 0.5, 0.1, ties)
     alone = [choose_anchor(tuple(g), coverage, colour, reference, 0.5, 0.1, u) for g, u in zip(grids, ties, strict=True)]
     assert [tuple(a) if c else None for a, c in zip(anchors.tolist(), chosen, strict=True)] == alone
     assert alone[6] is None and alone[0] is not None

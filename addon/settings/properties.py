@@ -149,7 +149,7 @@ class PaintReliefSettings(PropertyGroup):
     detail: FloatProperty(
         name="Detail",
         description="How finely detailed areas of the photograph are split into small strokes (0 coarse, 1 fine)",
-        default=0.75, min=0.0, max=1.0, subtype="FACTOR",
+        default=0.9, min=0.0, max=1.0, subtype="FACTOR",
     )
     stroke_sizes: StringProperty(
         name="Stroke Sizes",

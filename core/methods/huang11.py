@@ -127,12 +127,14 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
         draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
         count = 0
         for done, (size, first, stop) in enumerate(runs):
-            anchors, chosen = choose_anchors(grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges,
-                                             params.coverage_threshold, params.difference_threshold,
-                                             draws[first:stop, 0])
-            strokes += paint_round(canvas, sources[size], analysis.orientation, anchors[chosen], size, layer,
-                                   tips[size], draws[first:stop][chosen, 1:], params, one_by_one)
-            count += int(chosen.sum())
+            anchors, chosen, by_difference = choose_anchors(
+                grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges, params.coverage_threshold,
+                params.difference_threshold, draws[first:stop, 0])
+            laid = paint_round(canvas, sources[size], analysis.orientation, anchors[chosen], size, layer,
+                               tips[size], draws[first:stop][chosen, 1:], params, one_by_one,
+                               judged=by_difference[chosen] if params.mend_ratio > 0 else None)
+            strokes += laid
+            count += len(laid)
             stage.check()
             stage.report((layer + (done + 1) / len(runs)) / params.layers,
                          f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")

@@ -64,7 +64,8 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        tied pixel floor(u k) of the k tied ones in row-major order, u being
        the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
        line up on grid corners.
-    Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke).
+    Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke,
+    by_difference (N,) bool: by rule 2).
     Grids are looked at ANCHOR_CHUNK_PIXELS pixels at a time (each grid's choice is its own).
     """
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
@@ -73,10 +74,11 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
         if len(grids) else np.zeros(0, np.int64)
     bounds = np.unique(np.concatenate(([0], cuts, [len(grids)])))
     parts = [_choose_anchors(grids[a:b], coverage, colour, reference, coverage_threshold, difference_threshold,
-                             ties[a:b]) for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)]
+                             ties[a:b])
+             for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)]
     if not parts:
-        return np.zeros((0, 2), np.int64), np.zeros(0, bool)
-    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+        return np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool)
+    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
 
 
 def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
@@ -107,7 +109,7 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
     hit = np.flatnonzero(candidate & (rank == before[owner] + pick[owner]))
     anchors = np.zeros((n, 2), np.int64)
     anchors[owner[hit], 0], anchors[owner[hit], 1] = x[hit], y[hit]
-    return anchors, chosen
+    return anchors, chosen, chosen & ~cover
 
 
 def hertzmann_anchors(error: np.ndarray, spacing: int, threshold: float) -> np.ndarray:

@@ -51,26 +51,68 @@ def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Para
 
 def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
                 layer: int, tip: BrushTip, draws: np.ndarray, params: Params,
-                one_by_one: bool = False) -> List[Stroke]:
+                one_by_one: bool = False, judged: np.ndarray = None) -> List[Stroke]:
     """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
 
     draws: (N, 4) uniform numbers of each stroke's own stream (its colour
-    perturbation, ``colour_jitter``). With ``one_by_one`` each stroke is
-    planned and laid alone (the reference of the same rule).
+    perturbation, ``colour_jitter``). judged: optional (N,) bool, strokes
+    laid only if they mend more than they spoil (``improves``), each judged
+    alone on the canvas as the round found it (ignored by the 'lines' renderer).
+    With ``one_by_one`` each stroke is planned and laid alone (the
+    reference of the same rule).
     """
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     if len(anchors) == 0:
         return []
+    if judged is not None and params.renderer == "lines":
+        judged = None
     if one_by_one:
         planned = [plan_round(canvas, sources, orientation, anchors[i:i + 1], size, tip, draws[i:i + 1], params)
                    for i in range(len(anchors))]
+        if judged is not None:
+            planned = [plan for plan, judge in zip(planned, judged.tolist(), strict=True)
+                       if not judge or improves(canvas, plan, size, tip, params, sources.reference)[0]]
         for plan in planned:
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
         return [stroke for plan in planned for stroke in records(plan, size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
+    if judged is not None and judged.any():
+        better = np.concatenate([improves(canvas, chunk_of(plan, first, stop), size, tip, params, sources.reference)
+                                 for first, stop in lay_chunks(plan["paths"], tip, size)])
+        plan = subset(plan, np.flatnonzero(better | ~judged))
+        if len(plan["anchors"]) == 0:
+            return []
     for first, stop in lay_chunks(plan["paths"], tip, size):
         lay_round(canvas, chunk_of(plan, first, stop), size, tip, params)
     return records(plan, size, layer)
+
+
+def improves(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params,
+             reference: np.ndarray) -> np.ndarray:
+    """(N,) bool: whether each of a plan's strokes, laid alone on ``canvas`` as it is, mends more than
+    ``params.mend_ratio`` times the error it spoils. With e and e' a pixel's squared Euclidean RGB
+    distance from ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the stroke mends
+    sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels."""
+    footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
+    pixel, starts = footprints.pixel, footprints.starts
+    before = canvas.colour.reshape(-1, 3)[pixel]
+    target = reference.reshape(-1, 3)[pixel]
+    after = before * footprints.transmittance[:, None] + footprints.paint
+    change = (np.einsum("ij,ij->i", after - target, after - target, dtype=np.float64)
+              - np.einsum("ij,ij->i", before - target, before - target, dtype=np.float64))
+    mended, spoiled = np.zeros(len(starts) - 1), np.zeros(len(starts) - 1)
+    touched = np.diff(starts) > 0
+    mended[touched] = np.add.reduceat(np.maximum(-change, 0.0), starts[:-1][touched])
+    spoiled[touched] = np.add.reduceat(np.maximum(change, 0.0), starts[:-1][touched])
+    return mended > params.mend_ratio * spoiled
+
+
+def subset(plan: dict, index: np.ndarray) -> dict:
+    """The plan of strokes ``index`` (ascending) of ``plan``."""
+    paths = plan["paths"]
+    return {"anchors": plan["anchors"][index], "colours": plan["colours"][index],
+            "anchor_colours": plan["anchor_colours"][index], "angles": plan["angles"][index],
+            "paths": PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment)}
 
 
 def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
@@ -150,17 +192,21 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
             solid_stroke(canvas, line, 0.5 * size, plan["anchor_colours"][i], 1.0, params.height_mode,
                          params.height_build)
         return
-    stamps, directions, contact, relief, starts = stamp_paths(paths, plan["angles"], size, params)
-    rows = max(1.0, tip.length)
-    footprints = track_footprints(stamps, directions, starts, tip, plan["colours"], canvas.height.shape,
-                                  passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
-                                  bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height),
-                                  rows=rows)
+    footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
     if one_by_one:
-        for i in range(len(starts) - 1):
+        for i in range(len(footprints.starts) - 1):
             canvas.lay_one(footprints, i, params.height_mode, params.height_build)
     else:
         canvas.lay(footprints, params.height_mode, params.height_build)
+
+
+def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple):
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W)."""
+    stamps, directions, contact, relief, starts = stamp_paths(plan["paths"], plan["angles"], size, params)
+    rows = max(1.0, tip.length)
+    return track_footprints(stamps, directions, starts, tip, plan["colours"], shape,
+                            passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
+                            bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
 
 
 def records(plan: dict, size: int, layer: int) -> List[Stroke]:
