@@ -175,7 +175,7 @@ def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: P
 
 
 def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
-    from core.strokes.rounds import improves
+    from core.strokes.rounds import footprints_of, improves
     params = Params(seed=1)
     h, w, size = 40, 60, 8
     light = np.full((h, w, 3), 0.8, np.float32)
@@ -184,7 +184,7 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 20), size, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, light)
     assert mended > 0 and spoiled == 0
-    assert improves(canvas, plan, size, tip, params, light).tolist() == [True]
+    assert improves(canvas, footprints_of(plan, size, tip, params, (h, w)), light, 2.0).tolist() == [True]
     # the same stroke over a canvas that already matches a dark line beside it: a light stroke anchored
     # one row off a two-pixel dark line mends its own row and spoils the line
     line = light.copy()
@@ -195,5 +195,6 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 19), 2, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, 2, tip, params, line)
     assert 0 < mended <= 2.0 * spoiled, (mended, spoiled)
-    assert improves(canvas, plan, 2, tip, params, line).tolist() == [False]
-    assert improves(canvas, plan, 2, tip, params.replace(mend_ratio=0.5 * mended / spoiled), line).tolist() == [True]
+    footprints = footprints_of(plan, 2, tip, params, (h, w))
+    assert improves(canvas, footprints, line, 2.0).tolist() == [False]
+    assert improves(canvas, footprints, line, 0.5 * mended / spoiled).tolist() == [True]

@@ -55,6 +55,14 @@ class Footprints:
     height: np.ndarray
     full: np.ndarray
 
+    def of_strokes(self, keep: np.ndarray) -> "Footprints":
+        """The footprints of the strokes where ``keep`` (N,) bool is True, in order."""
+        entries = np.repeat(keep, np.diff(self.starts))
+        starts = np.zeros(int(keep.sum()) + 1, np.int64)
+        np.cumsum(np.diff(self.starts)[keep], out=starts[1:])
+        return Footprints(starts, self.pixel[entries], self.transmittance[entries], self.paint[entries],
+                          self.deposit[entries], self.height[entries], self.full[keep])
+
 
 def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     """(N,) float32: the 90th percentile of the positive entries of each of N runs of ``deposit`` (E,) >= 0.

@@ -18,7 +18,7 @@ import numpy as np
 from ..params import Params
 from .brush import BrushTip
 from .canvas import Canvas
-from .compositing import track_footprints
+from .compositing import Footprints, track_footprints
 from .path import resample_by_length, tangent_angles
 from .planning import PlannedPaths, plan_paths, sample_spacing, samples_per_segment
 from .stroke import (
@@ -71,29 +71,35 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
                    for i in range(len(anchors))]
         if judged is not None:
             planned = [plan for plan, judge in zip(planned, judged.tolist(), strict=True)
-                       if not judge or improves(canvas, plan, size, tip, params, sources.reference)[0]]
+                       if not judge or improves(canvas, footprints_of(plan, size, tip, params, canvas.height.shape),
+                                                sources.reference, params.mend_ratio)[0]]
         for plan in planned:
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
         return [stroke for plan in planned for stroke in records(plan, size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
+    chunks = lay_chunks(plan["paths"], tip, size)
     if judged is not None and judged.any():
-        better = np.concatenate([improves(canvas, chunk_of(plan, first, stop), size, tip, params, sources.reference)
-                                 for first, stop in lay_chunks(plan["paths"], tip, size)])
-        plan = subset(plan, np.flatnonzero(better | ~judged))
-        if len(plan["anchors"]) == 0:
-            return []
-    for first, stop in lay_chunks(plan["paths"], tip, size):
+        shape = canvas.height.shape
+        if len(chunks) == 1:                          # one chunk: its footprints are judged, then laid
+            footprints = footprints_of(plan, size, tip, params, shape)
+            keep = improves(canvas, footprints, sources.reference, params.mend_ratio) | ~judged
+            canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
+            return records(subset(plan, np.flatnonzero(keep)), size, layer)
+        keep = np.concatenate([improves(canvas, footprints_of(chunk_of(plan, first, stop), size, tip, params, shape),
+                                        sources.reference, params.mend_ratio)
+                               for first, stop in chunks]) | ~judged
+        plan = subset(plan, np.flatnonzero(keep))
+        chunks = lay_chunks(plan["paths"], tip, size)
+    for first, stop in chunks:
         lay_round(canvas, chunk_of(plan, first, stop), size, tip, params)
     return records(plan, size, layer)
 
 
-def improves(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params,
-             reference: np.ndarray) -> np.ndarray:
-    """(N,) bool: whether each of a plan's strokes, laid alone on ``canvas`` as it is, mends more than
-    ``params.mend_ratio`` times the error it spoils. With e and e' a pixel's squared Euclidean RGB
-    distance from ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the stroke mends
-    sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels."""
-    footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
+def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, ratio: float) -> np.ndarray:
+    """(N,) bool: whether each of N strokes' ``footprints``, laid alone on ``canvas`` as it is, mends more
+    than ``ratio`` times the error it spoils. With e and e' a pixel's squared Euclidean RGB distance from
+    ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the stroke mends sum max(0, e - e') and
+    spoils sum max(0, e' - e) over its pixels."""
     pixel, starts = footprints.pixel, footprints.starts
     before = canvas.colour.reshape(-1, 3)[pixel]
     target = reference.reshape(-1, 3)[pixel]
@@ -104,7 +110,7 @@ def improves(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Param
     touched = np.diff(starts) > 0
     mended[touched] = np.add.reduceat(np.maximum(-change, 0.0), starts[:-1][touched])
     spoiled[touched] = np.add.reduceat(np.maximum(change, 0.0), starts[:-1][touched])
-    return mended > params.mend_ratio * spoiled
+    return mended > ratio * spoiled
 
 
 def subset(plan: dict, index: np.ndarray) -> dict:
