@@ -85,13 +85,13 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
             keep = improves(canvas, footprints, sources.reference, params.mend_ratio) | ~judged
             canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
             return records(subset(plan, np.flatnonzero(keep)), size, layer)
-        keep = np.concatenate([improves(canvas, footprints_of(chunk_of(plan, first, stop), size, tip, params, shape),
+        keep = np.concatenate([improves(canvas, footprints_of(subset(plan, slice(first, stop)), size, tip, params, shape),
                                         sources.reference, params.mend_ratio)
                                for first, stop in chunks]) | ~judged
         plan = subset(plan, np.flatnonzero(keep))
         chunks = lay_chunks(plan["paths"], tip, size)
     for first, stop in chunks:
-        lay_round(canvas, chunk_of(plan, first, stop), size, tip, params)
+        lay_round(canvas, subset(plan, slice(first, stop)), size, tip, params)
     return records(plan, size, layer)
 
 
@@ -113,8 +113,8 @@ def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, rati
     return mended > ratio * spoiled
 
 
-def subset(plan: dict, index: np.ndarray) -> dict:
-    """The plan of strokes ``index`` (ascending) of ``plan``."""
+def subset(plan: dict, index) -> dict:
+    """The plan of some of ``plan``'s strokes, in order: ``index`` a slice or ascending (K,) int array."""
     paths = plan["paths"]
     return {"anchors": plan["anchors"][index], "colours": plan["colours"][index],
             "anchor_colours": plan["anchor_colours"][index], "angles": plan["angles"][index],
@@ -178,15 +178,6 @@ def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray
             "angles": angles}
 
 
-def chunk_of(plan: dict, first: int, stop: int) -> dict:
-    """The plan of strokes first .. stop - 1 of ``plan``."""
-    paths = plan["paths"]
-    part = slice(first, stop)
-    return {"anchors": plan["anchors"][part], "colours": plan["colours"][part],
-            "anchor_colours": plan["anchor_colours"][part], "angles": plan["angles"][part],
-            "paths": PlannedPaths(paths.samples[part], paths.first[part], paths.last[part], paths.per_segment)}
-
-
 def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params, one_by_one: bool = False) -> None:
     """Lay a plan's strokes on ``canvas`` in order (each alone on its box when ``one_by_one``)."""
     paths = plan["paths"]
@@ -206,7 +197,7 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
         canvas.lay(footprints, params.height_mode, params.height_build)
 
 
-def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple):
+def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
     """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W)."""
     stamps, directions, contact, relief, starts = stamp_paths(plan["paths"], plan["angles"], size, params)
     rows = max(1.0, tip.length)
