@@ -56,10 +56,11 @@ class Canvas:
         order = by_pixel[np.argsort(rank, kind="stable")]      # pass after pass, each in the run's order
         passes = np.bincount(rank)
         owner = np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts))
-        at_all = pixel[order]
-        keep, deposit, raised = footprints.transmittance[order], footprints.deposit[order], footprints.height[order]
-        paint = _rows(footprints.paint)[order].view(np.float32).reshape(-1, 3)
-        inverse = inverse_full(footprints.full)[owner[order]]
+        at_all = np.take(pixel, order)
+        keep, deposit = np.take(footprints.transmittance, order), np.take(footprints.deposit, order)
+        raised = np.take(footprints.height, order)
+        paint = np.take(_rows(footprints.paint), order).view(np.float32).reshape(-1, 3)
+        inverse = np.take(inverse_full(footprints.full), np.take(owner, order))
         colour, coverage = _rows(self.colour.reshape(-1, 3)), self.coverage.ravel()
         height, opacity = self.height.ravel(), self.opacity.ravel()
         done = 0
@@ -68,7 +69,8 @@ class Canvas:
             done += size
             at = at_all[part]
             new_colour, coverage[at], height[at], opacity[at] = composite(
-                colour[at].view(np.float32).reshape(-1, 3), coverage[at], height[at], opacity[at], keep[part],
+                np.take(colour, at).view(np.float32).reshape(-1, 3), np.take(coverage, at), np.take(height, at),
+                np.take(opacity, at), keep[part],
                 paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
             colour[at] = _rows(new_colour)
 

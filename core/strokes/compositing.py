@@ -63,6 +63,17 @@ class Footprints:
         return Footprints(starts, self.pixel[entries], self.transmittance[entries], self.paint[entries],
                           self.deposit[entries], self.height[entries], self.full[keep])
 
+    @staticmethod
+    def joined(parts: list) -> "Footprints":
+        """The footprints of several runs of strokes, one run after another."""
+        if len(parts) == 1:
+            return parts[0]
+        starts = np.concatenate([[0]] + [p.starts[1:] + offset for p, offset in
+                                         zip(parts, np.cumsum([0] + [p.starts[-1] for p in parts[:-1]]))])
+        join = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
+        return Footprints(starts.astype(np.int64), join("pixel"), join("transmittance"), join("paint"),
+                          join("deposit"), join("height"), join("full"))
+
 
 def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     """(N,) float32: the 90th percentile of the positive entries of each of N runs of ``deposit`` (E,) >= 0.
@@ -268,7 +279,7 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
         if not on.all():
             touched, stroke, row, column = touched[on], stroke[on], row[on], column[on]
         pixels.append(row * w + column)
-        sums.append(laid.view(np.dtype((np.void, 24))).ravel()[touched].view(np.float32).reshape(-1, 6))
+        sums.append(np.take(laid.view(np.dtype((np.void, 24))).ravel(), touched).view(np.float32).reshape(-1, 6))
         owners.append(stroke)
     pixel, laid, stroke = np.concatenate(pixels), np.concatenate(sums), np.concatenate(owners)
     starts = np.zeros(n + 1, np.int64)

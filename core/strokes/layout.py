@@ -95,7 +95,8 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
     rest = ~cover[owner]
     if rest.any():
         xs, ys = x[rest], y[rest]
-        diff = colour[ys, xs] - reference.sample(xs.astype(np.float32), ys.astype(np.float32))
+        diff = np.take(colour.reshape(-1, 3), ys * colour.shape[1] + xs, axis=0)
+        diff -= reference.sample(xs.astype(np.float32), ys.astype(np.float32))
         dist2 = np.full(len(x), -np.inf, np.float32)
         dist2[rest] = np.einsum("ij,ij->i", diff, diff)
         high = np.maximum.reduceat(dist2, starts[:-1])

@@ -21,6 +21,7 @@ from .canvas import Canvas
 from .compositing import Footprints, track_footprints
 from .path import resample_by_length, tangent_angles
 from .planning import PlannedPaths, plan_paths, sample_spacing, samples_per_segment
+from .workers import balanced_runs, run_all, worker_count
 from .stroke import (
     MIN_ROWS,
     ColourSources,
@@ -38,6 +39,9 @@ PLAN_CHUNK_SAMPLES = 1 << 23
 # Track samples (times brush columns) laid together at most: bounds the memory of a round's footprints
 # (about 100 bytes each), whatever the brush size.
 LAY_CHUNK_SAMPLES = 1 << 20
+
+# Track samples (times brush columns) below which a run of strokes is not split between worker threads.
+WORKER_LEAST_SAMPLES = 1 << 15
 
 
 def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
@@ -85,9 +89,13 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
             keep = improves(canvas, footprints, sources.reference, params.mend_ratio) | ~judged
             canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
             return records(subset(plan, np.flatnonzero(keep)), size, layer)
-        keep = np.concatenate([improves(canvas, footprints_of(subset(plan, slice(first, stop)), size, tip, params, shape),
-                                        sources.reference, params.mend_ratio)
-                               for first, stop in chunks]) | ~judged
+        asked = np.flatnonzero(judged)                # only the judged strokes' footprints are made to judge them
+        trial = subset(plan, asked)
+        keep = ~judged
+        keep[asked] = np.concatenate([
+            improves(canvas, footprints_of(subset(trial, slice(first, stop)), size, tip, params, shape),
+                     sources.reference, params.mend_ratio)
+            for first, stop in lay_chunks(trial["paths"], tip, size)])
         plan = subset(plan, np.flatnonzero(keep))
         chunks = lay_chunks(plan["paths"], tip, size)
     for first, stop in chunks:
@@ -101,8 +109,8 @@ def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, rati
     ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the stroke mends sum max(0, e - e') and
     spoils sum max(0, e' - e) over its pixels."""
     pixel, starts = footprints.pixel, footprints.starts
-    before = canvas.colour.reshape(-1, 3)[pixel]
-    target = reference.reshape(-1, 3)[pixel]
+    before = np.take(canvas.colour.reshape(-1, 3), pixel, axis=0)
+    target = np.take(reference.reshape(-1, 3), pixel, axis=0)
     after = before * footprints.transmittance[:, None] + footprints.paint
     change = (np.einsum("ij,ij->i", after - target, after - target, dtype=np.float64)
               - np.einsum("ij,ij->i", before - target, before - target, dtype=np.float64))
@@ -126,9 +134,7 @@ def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
     LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
     length in px (curve samples ``sample_spacing`` apart) plus the brush's length."""
     n = len(paths.first)
-    length = np.ceil((paths.last - paths.first) * sample_spacing(size)).astype(np.int64)
-    cost = (length + int(tip.length) + 3) * (int(np.ptp(tip.across)) + 1)
-    total = np.cumsum(cost)
+    total = np.cumsum(track_costs(paths, tip, size))
     bounds, first = [], 0
     while first < n:
         stop = int(np.searchsorted(total, (total[first - 1] if first else 0) + LAY_CHUNK_SAMPLES, side="right"))
@@ -136,6 +142,13 @@ def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
         bounds.append((first, stop))
         first = stop
     return bounds
+
+
+def track_costs(paths: PlannedPaths, tip: BrushTip, size: int) -> np.ndarray:
+    """(N,) int64: an upper bound on each stroke's track samples times brush columns: its kept curve's length
+    in px (curve samples ``sample_spacing`` apart) plus the brush's length, times the brush's columns."""
+    length = np.ceil((paths.last - paths.first) * sample_spacing(size)).astype(np.int64)
+    return (length + int(tip.length) + 3) * (int(np.ptp(tip.across)) + 1)
 
 
 def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
@@ -198,7 +211,14 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
 
 
 def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W)."""
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), runs of them on the worker threads."""
+    runs = balanced_runs(track_costs(plan["paths"], tip, size), worker_count(), WORKER_LEAST_SAMPLES)
+    return Footprints.joined(run_all(lambda run: strokes_footprints(subset(plan, slice(*run)), size, tip, params,
+                                                                    shape), runs))
+
+
+def strokes_footprints(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
+    """``footprints_of`` of one run of strokes."""
     stamps, directions, contact, relief, starts = stamp_paths(plan["paths"], plan["angles"], size, params)
     rows = max(1.0, tip.length)
     return track_footprints(stamps, directions, starts, tip, plan["colours"], shape,

@@ -44,17 +44,25 @@ class SmoothedImage:
         v = np.clip((np.asarray(y, np.float32) - shift) / f, 0, h - 1)
         u0 = np.minimum(u.astype(np.intp), max(w - 2, 0))
         v0 = np.minimum(v.astype(np.intp), max(h - 2, 0))
-        fu = (u - u0)[..., None]
+        fu = (u - u0)[..., None]                                  # float64, as are the blends below
         fv = (v - v0)[..., None]
         flat = self.pixels.reshape(-1, channels)
         i00 = v0 * w + u0
         right = 1 if w > 1 else 0
         down = w if h > 1 else 0
-        p00, p01 = flat[i00], flat[i00 + right]
-        p10, p11 = flat[i00 + down], flat[i00 + down + right]
-        top = p00 + fu * (p01 - p00)
-        bottom = p10 + fu * (p11 - p10)
-        return (top + fv * (bottom - top)).astype(np.float32)
+        p00 = np.take(flat, i00, axis=0)
+        top = np.take(flat, i00 + right, axis=0) - p00            # p00 + fu (p01 - p00), in place
+        top = np.multiply(top, fu)
+        top += p00
+        i00 += down
+        p10 = np.take(flat, i00, axis=0)
+        bottom = np.take(flat, i00 + right, axis=0) - p10
+        bottom = np.multiply(bottom, fu)
+        bottom += p10
+        bottom -= top                                             # top + fv (bottom - top)
+        bottom *= fv
+        bottom += top
+        return bottom.astype(np.float32)
 
 
 def block_mean(image: np.ndarray, factor: int) -> np.ndarray:

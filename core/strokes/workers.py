@@ -1,0 +1,58 @@
+"""The painter's worker threads: independent per-stroke work of a round spread over the machine's cores.
+
+A round's strokes are planned and their footprints made each on its own
+(ALGORITHM §5, "Speed"), so a round can be cut into runs of consecutive
+strokes worked on side by side and joined back in order: the result is the
+same bytes whatever the number of workers. NumPy and SciPy give up the
+interpreter lock inside their array loops, which is where this work spends
+its time.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from typing import Callable, List, Sequence
+
+import numpy as np
+
+# Most workers used (memory bandwidth, not cores, bounds this work beyond a few).
+MAX_WORKERS = 4
+
+_pool = None
+_pool_lock = threading.Lock()
+
+
+def worker_count() -> int:
+    """How many runs a round is cut into: the usable cores, at most MAX_WORKERS."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:                      # not on Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(MAX_WORKERS, cores))
+
+
+def balanced_runs(cost: np.ndarray, parts: int, least: float) -> List[tuple]:
+    """[(first, stop), ...]: at most ``parts`` runs of consecutive items of about equal total ``cost`` (N,) >= 0,
+    each of at least ``least`` (so small work is not split); one run when the whole is below 2 ``least``."""
+    n = len(cost)
+    total = np.cumsum(np.asarray(cost, np.float64))
+    whole = float(total[-1]) if n else 0.0
+    parts = int(min(parts, whole // least)) if least > 0 else parts
+    if n == 0 or parts <= 1:
+        return [(0, n)]
+    cuts = np.searchsorted(total, whole * np.arange(1, parts) / parts, side="right")
+    bounds = np.unique(np.concatenate(([0], np.clip(cuts, 1, n - 1), [n])))
+    return list(zip(bounds[:-1].tolist(), bounds[1:].tolist()))
+
+
+def run_all(work: Callable, items: Sequence) -> list:
+    """[work(item) for item in items], on the worker threads when there is more than one item."""
+    global _pool
+    if len(items) <= 1:
+        return [work(item) for item in items]
+    with _pool_lock:
+        if _pool is None:
+            _pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="paint-relief")
+    return list(_pool.map(work, items))
