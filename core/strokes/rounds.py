@@ -21,7 +21,6 @@ from .canvas import Canvas
 from .compositing import Footprints, track_footprints
 from .path import resample_by_length, tangent_angles
 from .planning import PlannedPaths, plan_paths, sample_spacing, samples_per_segment
-from .workers import balanced_runs, run_all, worker_count
 from .stroke import (
     MIN_ROWS,
     ColourSources,
@@ -32,6 +31,7 @@ from .stroke import (
     ridge_profile,
     solid_stroke,
 )
+from .workers import balanced_runs, run_all, worker_count
 
 # Curve samples (times bristles and channels, roughly) planned together at most: bounds the memory of planning.
 PLAN_CHUNK_SAMPLES = 1 << 23

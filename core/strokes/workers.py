@@ -44,7 +44,7 @@ def balanced_runs(cost: np.ndarray, parts: int, least: float) -> List[tuple]:
         return [(0, n)]
     cuts = np.searchsorted(total, whole * np.arange(1, parts) / parts, side="right")
     bounds = np.unique(np.concatenate(([0], np.clip(cuts, 1, n - 1), [n])))
-    return list(zip(bounds[:-1].tolist(), bounds[1:].tolist()))
+    return list(zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True))
 
 
 def run_all(work: Callable, items: Sequence) -> list:
