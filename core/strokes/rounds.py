@@ -42,6 +42,8 @@ LAY_CHUNK_SAMPLES = 1 << 20
 
 # Track samples (times brush columns) below which a run of strokes is not split between worker threads.
 WORKER_LEAST_SAMPLES = 1 << 15
+# Strokes below which a round's planning is not split between worker threads.
+WORKER_LEAST_STROKES = 64
 
 
 def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
@@ -157,13 +159,19 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
 
     Returns {"anchors" (N, 2), "colours" (N, B, 3) bristle colours,
     "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}. The
-    strokes are planned PLAN_CHUNK_SAMPLES curve samples at a time (the
-    canvas does not change in between), which bounds the memory of the tests.
+    strokes are planned in runs on the worker threads (the canvas does not
+    change in between), PLAN_CHUNK_SAMPLES curve samples at a time in all,
+    which bounds the memory of the tests.
     """
+    workers = worker_count()
     samples = (2 * max(0, params.max_length - 1) * samples_per_segment(size) + 1) * (len(tip) + 8)
-    step = max(1, PLAN_CHUNK_SAMPLES // samples)
-    parts = [plan_strokes(canvas, sources, orientation, anchors[i:i + step], size, tip, draws[i:i + step], params)
-             for i in range(0, len(anchors), step)]
+    step = max(1, PLAN_CHUNK_SAMPLES // (samples * workers))
+    n = len(anchors)
+    count = max(-(-n // step), min(workers, n // WORKER_LEAST_STROKES))
+    bounds = np.linspace(0, n, max(count, 1) + 1).astype(np.int64).tolist()
+    runs = [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+    parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[run], size, tip, draws[run],
+                                             params), runs)
     if len(parts) == 1:
         return parts[0]
     paths = [part["paths"] for part in parts]

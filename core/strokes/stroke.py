@@ -12,6 +12,7 @@ from ..params import Params
 from .brush import BrushTip
 from .canvas import Canvas
 from .smoothing import SmoothedImage, smooth
+from .workers import run_all
 
 # A stroke covers as a brush at least this many rows long would: a short tip (small brushes have one or
 # two rows) is counted as passing that many times, so small strokes are as opaque as large ones.
@@ -65,15 +66,11 @@ class ColourSources:
 def colour_sources(reference: np.ndarray, sizes: Iterable[int], params: Params) -> Dict[int, ColourSources]:
     """{width: ColourSources} for each brush width (px): sigmas edge_smoothing, anchor_smoothing and
     bristle_smoothing x width (equal sigmas share one smoothed image)."""
-    levels: Dict[float, SmoothedImage] = {}
-
-    def level(sigma: float) -> SmoothedImage:
-        if sigma not in levels:
-            levels[sigma] = smooth(reference, sigma)
-        return levels[sigma]
-
-    return {int(s): ColourSources(reference, level(params.edge_smoothing * s), level(params.anchor_smoothing * s),
-                                  level(params.bristle_smoothing * s)) for s in sizes}
+    sigmas = {int(s): (params.edge_smoothing * s, params.anchor_smoothing * s, params.bristle_smoothing * s)
+              for s in sizes}
+    distinct = sorted({sigma for three in sigmas.values() for sigma in three}, reverse=True)
+    levels = dict(zip(distinct, run_all(lambda sigma: smooth(reference, sigma), distinct), strict=True))
+    return {s: ColourSources(reference, *(levels[sigma] for sigma in three)) for s, three in sigmas.items()}
 
 
 def detail_sources(reference: np.ndarray) -> ColourSources:

@@ -54,5 +54,5 @@ def run_all(work: Callable, items: Sequence) -> list:
         return [work(item) for item in items]
     with _pool_lock:
         if _pool is None:
-            _pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="paint-relief")
+            _pool = ThreadPoolExecutor(worker_count(), thread_name_prefix="paint-relief")
     return list(_pool.map(work, items))
