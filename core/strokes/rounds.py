@@ -85,18 +85,16 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
     chunks = lay_chunks(plan["paths"], tip, size)
     if judged is not None and judged.any():
-        shape = canvas.height.shape
         if len(chunks) == 1:                          # one chunk: its footprints are judged, then laid
-            footprints = footprints_of(plan, size, tip, params, shape)
-            keep = improves(canvas, footprints, sources.reference, params.mend_ratio) | ~judged
+            footprints, mends = judged_footprints(plan, size, tip, params, canvas, sources.reference)
+            keep = mends | ~judged
             canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
             return records(subset(plan, np.flatnonzero(keep)), size, layer)
         asked = np.flatnonzero(judged)                # only the judged strokes' footprints are made to judge them
         trial = subset(plan, asked)
         keep = ~judged
         keep[asked] = np.concatenate([
-            improves(canvas, footprints_of(subset(trial, slice(first, stop)), size, tip, params, shape),
-                     sources.reference, params.mend_ratio)
+            judged_footprints(subset(trial, slice(first, stop)), size, tip, params, canvas, sources.reference)[1]
             for first, stop in lay_chunks(trial["paths"], tip, size)])
         plan = subset(plan, np.flatnonzero(keep))
         chunks = lay_chunks(plan["paths"], tip, size)
@@ -114,8 +112,10 @@ def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, rati
     before = np.take(canvas.colour.reshape(-1, 3), pixel, axis=0)
     target = np.take(reference.reshape(-1, 3), pixel, axis=0)
     after = before * footprints.transmittance[:, None] + footprints.paint
-    change = (np.einsum("ij,ij->i", after - target, after - target, dtype=np.float64)
-              - np.einsum("ij,ij->i", before - target, before - target, dtype=np.float64))
+    after -= target
+    before -= target
+    change = (np.einsum("ij,ij->i", after, after, dtype=np.float64)
+              - np.einsum("ij,ij->i", before, before, dtype=np.float64))
     mended, spoiled = np.zeros(len(starts) - 1), np.zeros(len(starts) - 1)
     touched = np.diff(starts) > 0
     mended[touched] = np.add.reduceat(np.maximum(-change, 0.0), starts[:-1][touched])
@@ -220,9 +220,26 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
 
 def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
     """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), runs of them on the worker threads."""
+    return Footprints.joined(in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape)))
+
+
+def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, canvas: Canvas,
+                      reference: np.ndarray) -> tuple:
+    """(``footprints_of`` a plan's N strokes, (N,) bool whether each ``improves`` ``canvas`` by
+    ``params.mend_ratio``), runs of strokes made and judged on the worker threads."""
+    def made_and_judged(part: dict) -> tuple:
+        footprints = strokes_footprints(part, size, tip, params, canvas.height.shape)
+        return footprints, improves(canvas, footprints, reference, params.mend_ratio)
+
+    parts = in_runs(plan, size, tip, made_and_judged)
+    return Footprints.joined([part[0] for part in parts]), np.concatenate([part[1] for part in parts])
+
+
+def in_runs(plan: dict, size: int, tip: BrushTip, work) -> list:
+    """[work(plan of a run of strokes), ...] over runs of a plan's strokes of about equal track samples, in order,
+    on the worker threads."""
     runs = balanced_runs(track_costs(plan["paths"], tip, size), worker_count(), WORKER_LEAST_SAMPLES)
-    return Footprints.joined(run_all(lambda run: strokes_footprints(subset(plan, slice(*run)), size, tip, params,
-                                                                    shape), runs))
+    return run_all(lambda run: work(subset(plan, slice(*run))), runs)
 
 
 def strokes_footprints(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
