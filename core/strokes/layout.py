@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .workers import run_all, worker_count
+
 
 def grid_order(grids: np.ndarray) -> np.ndarray:
     """Indices of (N, 4) grids (x0, y0, x1, y1) by area, largest first (ties keep partition order)."""
@@ -43,6 +45,8 @@ def grid_pixels(grids: np.ndarray) -> tuple:
 
 # Grid pixels looked at together at most when choosing anchors (bounds the memory: about 250 bytes each).
 ANCHOR_CHUNK_PIXELS = 1 << 18
+# Grid pixels below which anchor choice is not split between worker threads.
+ANCHOR_LEAST_PIXELS = 1 << 16
 
 
 def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
@@ -66,16 +70,18 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        line up on grid corners.
     Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke,
     by_difference (N,) bool: by rule 2).
-    Grids are looked at ANCHOR_CHUNK_PIXELS pixels at a time (each grid's choice is its own).
+    Grids are looked at in runs on the worker threads, ANCHOR_CHUNK_PIXELS
+    pixels at a time in all (each grid's choice is its own).
     """
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
     areas = np.cumsum((grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1]))
-    cuts = np.searchsorted(areas, np.arange(1, int(areas[-1]) // ANCHOR_CHUNK_PIXELS + 1) * ANCHOR_CHUNK_PIXELS) \
-        if len(grids) else np.zeros(0, np.int64)
+    total, workers = (int(areas[-1]) if len(grids) else 0), worker_count()
+    chunk = min(max(-(-total // workers), ANCHOR_LEAST_PIXELS), max(1, ANCHOR_CHUNK_PIXELS // workers))
+    cuts = np.searchsorted(areas, np.arange(1, total // chunk + 1) * chunk)
     bounds = np.unique(np.concatenate(([0], cuts, [len(grids)])))
-    parts = [_choose_anchors(grids[a:b], coverage, colour, reference, coverage_threshold, difference_threshold,
-                             ties[a:b])
-             for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)]
+    parts = run_all(lambda run: _choose_anchors(grids[run], coverage, colour, reference, coverage_threshold,
+                                                difference_threshold, ties[run]),
+                    [slice(a, b) for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)])
     if not parts:
         return np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool)
     return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
