@@ -13,6 +13,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..colour import luminance
+from ..workers import run_all
 
 CHUNK_PIXELS = 1 << 20
 """The bilateral grid is splatted and read back this many pixels at a time."""
@@ -32,10 +33,8 @@ def bilateral_filter(image: np.ndarray, sigma_spatial: float, sigma_range: float
     img = np.asarray(image, dtype=np.float32)
     if img.ndim == 2:
         return _bilateral_channel(img, sigma_spatial, sigma_range)
-    out = np.empty_like(img)
-    for c in range(img.shape[2]):
-        out[..., c] = _bilateral_channel(img[..., c], sigma_spatial, sigma_range)
-    return out
+    channels = run_all(lambda c: _bilateral_channel(img[..., c], sigma_spatial, sigma_range), range(img.shape[2]))
+    return np.stack(channels, axis=-1)
 
 
 def _bilateral_channel(values: np.ndarray, sigma_spatial: float, sigma_range: float) -> np.ndarray:
@@ -92,8 +91,8 @@ def _slice(grid: np.ndarray, ys: np.ndarray, xs: np.ndarray, rs: np.ndarray) -> 
             wyx = (wy * wx).astype(np.float32)
             lo_w = wyx * (1.0 - fr)
             hi_w = wyx * fr
-            num += flat[0][base] * lo_w + flat[0][base + 1] * hi_w
-            den += flat[1][base] * lo_w + flat[1][base + 1] * hi_w
+            num += np.take(flat[0], base) * lo_w + np.take(flat[0], base + 1) * hi_w
+            den += np.take(flat[1], base) * lo_w + np.take(flat[1], base + 1) * hi_w
     return (num / np.maximum(den, 1e-12)).astype(np.float32)
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .workers import run_all, worker_count
+from ..workers import run_all, worker_count
 
 
 def grid_order(grids: np.ndarray) -> np.ndarray:

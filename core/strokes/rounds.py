@@ -16,6 +16,7 @@ from typing import List
 import numpy as np
 
 from ..params import Params
+from ..workers import balanced_runs, run_all, worker_count
 from .brush import BrushTip
 from .canvas import Canvas
 from .compositing import Footprints, track_footprints
@@ -31,7 +32,6 @@ from .stroke import (
     ridge_profile,
     solid_stroke,
 )
-from .workers import balanced_runs, run_all, worker_count
 
 # Curve samples (times bristles and channels, roughly) planned together at most: bounds the memory of planning.
 PLAN_CHUNK_SAMPLES = 1 << 23

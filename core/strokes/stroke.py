@@ -9,10 +9,10 @@ import numpy as np
 
 from ..colour import lab_to_srgb, srgb_to_lab
 from ..params import Params
+from ..workers import run_all
 from .brush import BrushTip
 from .canvas import Canvas
 from .smoothing import SmoothedImage, smooth
-from .workers import run_all
 
 # A stroke covers as a brush at least this many rows long would: a short tip (small brushes have one or
 # two rows) is counted as passing that many times, so small strokes are as opaque as large ones.

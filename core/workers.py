@@ -1,9 +1,10 @@
-"""The painter's worker threads: independent per-stroke work of a round spread over the machine's cores.
+"""The painter's worker threads: independent pieces of work spread over the machine's cores.
 
-A round's strokes are planned and their footprints made each on its own
-(ALGORITHM §5, "Speed"), so a round can be cut into runs of consecutive
-strokes worked on side by side and joined back in order: the result is the
-same bytes whatever the number of workers. NumPy and SciPy give up the
+A round's strokes are planned, made and judged each on its own (ALGORITHM
+§5, "Speed"), a grid's anchor is its own choice, and an image's channels
+and smoothing levels are filtered apart, so such work is cut into pieces
+worked on side by side and joined back in order: the result is the same
+bytes whatever the number of workers. NumPy and SciPy give up the
 interpreter lock inside their array loops, which is where this work spends
 its time.
 """
