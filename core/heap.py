@@ -9,7 +9,11 @@ megapixels about a tenth of the painting time went to page faults. Inside
 TRIM_THRESHOLD of free heap is kept; on leaving, glibc's default thresholds
 come back and the free heap is returned to the system (``malloc_trim``).
 Full-image arrays (larger than MMAP_THRESHOLD from about 3 megapixels) are
-still mapped and unmapped as before. Other C libraries are left as they are.
+still mapped and unmapped as before. The painter's worker threads
+(``core.workers``) allocate from the same heap (M_ARENA_MAX 1, for the rest
+of the process's life), so what one thread frees the next allocation reuses
+whichever thread makes it, instead of each thread's own heap keeping its
+freed blocks beside the others'. Other C libraries are left as they are.
 
 The thresholds are process-wide, and glibc can neither report them nor give
 back its dynamic mmap threshold once they are set, so only the painter's own
@@ -27,6 +31,7 @@ from typing import Iterator
 
 M_TRIM_THRESHOLD = -1
 M_MMAP_THRESHOLD = -3
+M_ARENA_MAX = -8
 MMAP_THRESHOLD = 32 * 2**20      # glibc's largest allowed value on 64-bit systems
 TRIM_THRESHOLD = 256 * 2**20
 DEFAULT_THRESHOLD = 128 * 2**10  # glibc's default for both
@@ -57,6 +62,7 @@ def reused_heap() -> Iterator[None]:
         if _users == 1:
             libc.mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)
             libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
+            libc.mallopt(M_ARENA_MAX, 1)
     try:
         yield
     finally:

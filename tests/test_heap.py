@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import resource
+import subprocess
+import sys
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -50,3 +53,25 @@ def test_threads_and_nesting_share_one_setting():
     for t in threads:
         t.join()
     assert not errors and heap._users == 0
+
+
+WORKER_THEN_MAIN = """
+import resource, sys, threading
+import numpy as np
+from core import heap
+
+with heap.reused_heap():
+    worker = threading.Thread(target=lambda: [np.ones(2 * 2**20, np.float32) for _ in range(10)])
+    worker.start()
+    worker.join()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    arrays = [np.ones(2 * 2**20, np.float32) for _ in range(10)]
+    print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
+"""
+
+
+def test_blocks_freed_by_a_worker_thread_are_reused_by_the_main_thread():
+    # a fresh process: the heap's arenas are set once per process
+    done = subprocess.run([sys.executable, "-c", WORKER_THEN_MAIN], capture_output=True, text=True,
+                          cwd=Path(__file__).resolve().parents[1], check=True)
+    assert int(done.stdout) < 0.02 * 10 * 8 * 2**20 // 4096   # the worker's freed pages are faulted in no more

@@ -4,12 +4,12 @@ import threading
 
 import numpy as np
 import pytest
+from test_rounds import photo, same_painting
 
 from core import workers
 from core.methods import huang11
 from core.params import Params
 from core.strokes import layout, rounds
-from test_rounds import photo, same_painting
 
 
 @pytest.mark.parametrize("parts", [1, 2, 3, 7])
@@ -43,21 +43,26 @@ def test_run_all_keeps_the_order_of_its_items_and_uses_threads():
         assert any(name.startswith("paint-relief") for name in seen)
 
 
-def test_the_painting_does_not_depend_on_how_many_workers_share_it(monkeypatch):
+def painted_by(monkeypatch, count: int):
+    """A small painting made with ``count`` workers, every round, grid run and stroke run split between them;
+    returns (painting, the most runs any piece of work was cut into)."""
     image = photo(3, 64, 72, "blobs")
     params = Params(seed=2, stroke_sizes=(16, 8, 4), layers=3, size_reference_megapixels=0.0046, detail_pass=True)
-    monkeypatch.setattr(rounds, "worker_count", lambda: 1)
-    monkeypatch.setattr(layout, "worker_count", lambda: 1)
-    alone = huang11.paint(image, params)
-    for count in (2, 5):
-        pieces = []
-        split = workers.balanced_runs
-        monkeypatch.setattr(rounds, "balanced_runs", lambda *args: pieces.append(split(*args)) or pieces[-1])
-        monkeypatch.setattr(rounds, "worker_count", lambda: count)
-        monkeypatch.setattr(layout, "worker_count", lambda: count)
-        monkeypatch.setattr(rounds, "WORKER_LEAST_SAMPLES", 1)
-        monkeypatch.setattr(rounds, "WORKER_LEAST_STROKES", 1)
-        monkeypatch.setattr(layout, "ANCHOR_LEAST_PIXELS", 1)
-        shared = huang11.paint(image, params)
-        assert max(len(p) for p in pieces) == count
-        same_painting(alone, shared)
+    pieces = []
+    split = workers.balanced_runs
+    monkeypatch.setattr(rounds, "balanced_runs", lambda *args: pieces.append(split(*args)) or pieces[-1])
+    monkeypatch.setattr(rounds, "worker_count", lambda: count)
+    monkeypatch.setattr(layout, "worker_count", lambda: count)
+    monkeypatch.setattr(rounds, "WORKER_LEAST_SAMPLES", 1)
+    monkeypatch.setattr(rounds, "WORKER_LEAST_STROKES", 1)
+    monkeypatch.setattr(layout, "ANCHOR_LEAST_PIXELS", 1)
+    return huang11.paint(image, params), max(len(p) for p in pieces)
+
+
+@pytest.mark.parametrize("count", [2, 5])
+def test_the_painting_does_not_depend_on_how_many_workers_share_it(monkeypatch, count):
+    alone, cut = painted_by(monkeypatch, 1)
+    assert cut == 1
+    shared, cut = painted_by(monkeypatch, count)
+    assert cut == count
+    same_painting(alone, shared)
