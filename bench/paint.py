@@ -10,7 +10,9 @@ strokes, writing) several times and prints the best and median wall-clock
 seconds, the seconds per megapixel, the stroke count, the peak resident
 memory of the child process (ru_maxrss), the size of the painted folder,
 and the median seconds of each stage of report.json ("seconds"; "other" is
-the median wall time outside them: start-up, imports, reading).
+the median wall time outside them: start-up, imports, reading). The
+painter spreads its work over the worker threads of ``core.workers``; the
+first line (on stderr) says how many.
 --markdown prints the same as rows of the README's speed table.
 With --widths it paints each size once more in this process and splits the
 stroke stage by brush width (strokes, seconds, milliseconds per stroke).
@@ -33,6 +35,7 @@ from pathlib import Path
 
 from common import ROOT, photo
 from core.files import io
+from core.workers import worker_count
 
 
 def run_command(image: Path, out: Path) -> tuple:
@@ -128,6 +131,7 @@ def main() -> None:
         if not found:
             raise SystemExit(f"no photograph named {name} in {ROOT / 'sample_scenes'}")
         sources.append(found[0])
+    print(f"{worker_count()} worker threads (core.workers), {os.cpu_count()} cores", file=sys.stderr)
     if args.markdown:
         print("| photograph | strokes | best s | median s | peak memory | painted folder | stages (median s) |\n"
               "| --- | ---: | ---: | ---: | ---: | ---: | --- |")
