@@ -51,7 +51,7 @@ class SmoothedImage:
         right = 1 if w > 1 else 0
         down = w if h > 1 else 0
         p00 = np.take(flat, i00, axis=0)
-        top = np.take(flat, i00 + right, axis=0) - p00            # p00 + fu (p01 - p00), in place
+        top = np.take(flat, i00 + right, axis=0) - p00            # p00 + fu (p01 - p00)
         top = np.multiply(top, fu)
         top += p00
         i00 += down
