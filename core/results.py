@@ -20,7 +20,6 @@ class Analysis:
     """Everything the stroke layout needs to know about an (H, W) image.
 
     reference:   float32 (H, W, 3) sRGB [0, 1], bilateral-filtered input.
-    intensity:   float32 (H, W) [0, 1], luminance of the reference.
     importance:  float32 (H, W) [0, 1], normalised Sobel energy Ẽ (Eq. 1).
     grids:       int32 (N, 4) rows (x0, y0, x1, y1), half-open, tiling the canvas.
     grid_sizes:  int32 (N,) standard stroke size (px) of each grid.
@@ -30,7 +29,6 @@ class Analysis:
     """
 
     reference: np.ndarray
-    intensity: np.ndarray
     importance: np.ndarray
     grids: np.ndarray
     grid_sizes: np.ndarray

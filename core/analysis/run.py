@@ -50,7 +50,6 @@ def analyze(image: np.ndarray, params: Params, mask: Optional[np.ndarray] = None
 
     reference = timed("reference", 0.0, "Filtering the reference image", reference_image,
                       image, params.bilateral_sigma_spatial, params.bilateral_sigma_range)
-    intensity = luminance(reference)
     importance = timed("importance", 0.35, "Computing the importance map", importance_map,
                        reference, params.energy_percentile, mask, params.mask_strength)
     sizes = scaled_sizes(params, h, w)
@@ -59,6 +58,6 @@ def analyze(image: np.ndarray, params: Params, mask: Optional[np.ndarray] = None
                   importance, sizes, threshold, params.partition_delta, params.partition_gamma)
     grid_sizes = nearest_size(grids, sizes)
     orientation = timed("orientation", 0.65, "Computing the orientation field", orientation_field,
-                        intensity, importance, params, scale)
+                        luminance(reference), importance, params, scale)
     stage.report(1.0, "Analysis done")
-    return Analysis(reference, intensity, importance, grids, grid_sizes, orientation, sizes, seconds)
+    return Analysis(reference, importance, grids, grid_sizes, orientation, sizes, seconds)
