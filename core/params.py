@@ -86,7 +86,9 @@ class Params:
     the squared error it spoils (where it takes the canvas further away), judged alone on the canvas as its
     round found it. A brush wider than a feature it runs beside otherwise mends a pixel of its own side and
     spoils the feature as much, and the next layer undoes it: a two-pixel line drawn on one layer and covered
-    by its neighbours' strokes on the next. 0 lays every such stroke (the paper)."""
+    by its neighbours' strokes on the next. A stroke placed at p_min (rule 1) on a layer after the first is
+    laid unless it spoils more than this many times what it mends: a wide brush covering a last bare spot of
+    its grid must not sweep over small features painted since. 0 lays every stroke (the paper)."""
     orientation_threshold: float = math.pi / 6
     """T_o: a path stops where the orientation turns more than this from the anchor's."""
     path_rule: str = "natural"

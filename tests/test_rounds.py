@@ -198,3 +198,36 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     footprints = footprints_of(plan, 2, tip, params, (h, w))
     assert improves(canvas, footprints, line, 2.0).tolist() == [False]
     assert improves(canvas, footprints, line, 0.5 * mended / spoiled).tolist() == [True]
+
+
+def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it_mends():
+    from core.methods.huang11 import mend_ratios
+    from core.strokes.brush import brush_tip, load_brush
+    from core.strokes.rounds import paint_round
+    from core.strokes.stroke import colour_sources
+    assert mend_ratios(np.array([True, False]), 0, 2.0).tolist() == [2.0, 0.0]     # the first layer lays the ground
+    assert mend_ratios(np.array([True, False]), 1, 2.0).tolist() == [2.0, 0.5]
+    assert mend_ratios(np.array([True, False]), 1, 0.0) is None                   # the paper: no stroke judged
+    # a dark sky with a bright galaxy, both painted, and one bare spot left beside the galaxy
+    params = Params(seed=1)
+    h, w, size = 40, 80, 32
+    yy, xx = np.mgrid[0:h, 0:w]
+    sky = np.full((h, w, 3), 0.05, np.float32)
+    sky[(yy - 20) ** 2 + (xx - 40) ** 2 <= 9] = 0.9
+    canvas = Canvas.blank((h, w), (0.93, 0.9, 0.84))
+    canvas.colour[:] = sky
+    canvas.opacity[:] = canvas.coverage[:] = 1.0
+    canvas.colour[19:22, 29:31] = (0.93, 0.9, 0.84)
+    canvas.opacity[19:22, 29:31] = canvas.coverage[19:22, 29:31] = 0.0
+    plan, tip = one_stroke_plan(sky, canvas, (30, 20), size, params)
+    mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, sky)
+    assert spoiled > 2.0 * mended > 0, (mended, spoiled)          # it sweeps the sky's dark over the galaxy
+    sources = colour_sources(sky, [size], params)[size]
+    tip = brush_tip(load_brush(params.brush), size, params.transparency)
+    orientation = np.zeros((h, w), np.float32)
+    for ratio, laid in ((0.0, 1), (0.5, 0)):
+        painted = Canvas(canvas.colour.copy(), canvas.coverage.copy(), canvas.height.copy(), canvas.opacity.copy())
+        strokes = paint_round(painted, sources, orientation, np.array([(30, 20)]), size, 1, tip, np.full((1, 4), 0.5),
+                              params, judged=np.array([ratio]))
+        assert len(strokes) == laid
+        assert (painted.colour[20, 40] == sky[20, 40]).all() == (laid == 0)

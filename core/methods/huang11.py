@@ -132,7 +132,7 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
                 params.difference_threshold, draws[first:stop, 0])
             laid = paint_round(canvas, sources[size], analysis.orientation, anchors[chosen], size, layer,
                                tips[size], draws[first:stop][chosen, 1:], params, one_by_one,
-                               judged=by_difference[chosen] if params.mend_ratio > 0 else None)
+                               judged=mend_ratios(by_difference[chosen], layer, params.mend_ratio))
             strokes += laid
             count += len(laid)
             stage.check()
@@ -140,6 +140,20 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
                          f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
         per_layer.append(count)
     return strokes, per_layer
+
+
+def mend_ratios(by_difference: np.ndarray, layer: int, ratio: float) -> Optional[np.ndarray]:
+    """(N,) how many times the error it spoils each of N strokes of a layer must mend to be laid (0: laid
+    unjudged), or None with ``ratio`` 0 (the paper: every stroke is laid).
+
+    A stroke placed where the canvas differs from the reference (``by_difference``) must mend ``ratio``
+    times what it spoils. One placed to cover a bare spot is laid on the first layer, which lays the
+    ground, and on later layers unless it spoils more than ``ratio`` times what it mends: a wide brush
+    covering a last bare spot of its grid must not sweep the dark of a sky over a galaxy painted since.
+    """
+    if ratio <= 0:
+        return None
+    return np.where(by_difference, ratio, 1.0 / ratio if layer > 0 else 0.0)
 
 
 def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],

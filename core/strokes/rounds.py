@@ -61,38 +61,40 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
     """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
 
     draws: (N, 4) uniform numbers of each stroke's own stream (its colour
-    perturbation, ``colour_jitter``). judged: optional (N,) bool, strokes
-    laid only if they mend more than they spoil (``improves``), each judged
-    alone on the canvas as the round found it (ignored by the 'lines' renderer).
+    perturbation, ``colour_jitter``). judged: optional (N,) float >= 0,
+    stroke i is laid only if it mends more than judged[i] times the error
+    it spoils (``improves``), judged alone on the canvas as the round found
+    it; 0 lays it unjudged (all are, by the 'lines' renderer).
     With ``one_by_one`` each stroke is planned and laid alone (the
     reference of the same rule).
     """
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     if len(anchors) == 0:
         return []
-    if judged is not None and params.renderer == "lines":
-        judged = None
+    if judged is not None:
+        judged = None if params.renderer == "lines" else np.asarray(judged, np.float64)
     if one_by_one:
         planned = [plan_round(canvas, sources, orientation, anchors[i:i + 1], size, tip, draws[i:i + 1], params)
                    for i in range(len(anchors))]
         if judged is not None:
-            planned = [plan for plan, judge in zip(planned, judged.tolist(), strict=True)
-                       if not judge or improves(canvas, footprints_of(plan, size, tip, params, canvas.height.shape),
-                                                sources.reference, params.mend_ratio)[0]]
+            planned = [plan for plan, ratio in zip(planned, judged.tolist(), strict=True)
+                       if not ratio or improves(canvas, footprints_of(plan, size, tip, params, canvas.height.shape),
+                                                sources.reference, ratio)[0]]
         for plan in planned:
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
         return [stroke for plan in planned for stroke in records(plan, size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
     chunks = lay_chunks(plan["paths"], tip, size)
     if judged is not None and judged.any():
+        plan["ratios"] = judged
         if len(chunks) == 1:                          # one chunk: its footprints are judged, then laid
             footprints, mends = judged_footprints(plan, size, tip, params, canvas, sources.reference)
-            keep = mends | ~judged
+            keep = mends | (judged == 0)
             canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
             return records(subset(plan, np.flatnonzero(keep)), size, layer)
         asked = np.flatnonzero(judged)                # only the judged strokes' footprints are made to judge them
         trial = subset(plan, asked)
-        keep = ~judged
+        keep = judged == 0
         keep[asked] = np.concatenate([
             judged_footprints(subset(trial, slice(first, stop)), size, tip, params, canvas, sources.reference)[1]
             for first, stop in lay_chunks(trial["paths"], tip, size)])
@@ -103,9 +105,9 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
     return records(plan, size, layer)
 
 
-def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, ratio: float) -> np.ndarray:
+def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, ratio) -> np.ndarray:
     """(N,) bool: whether each of N strokes' ``footprints``, laid alone on ``canvas`` as it is, mends more
-    than ``ratio`` times the error it spoils. With e and e' a pixel's squared Euclidean RGB distance from
+    than ``ratio`` (a number, or (N,) one per stroke) times the error it spoils. With e and e' a pixel's squared Euclidean RGB distance from
     ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the stroke mends sum max(0, e - e') and
     spoils sum max(0, e' - e) over its pixels."""
     pixel, starts = footprints.pixel, footprints.starts
@@ -126,9 +128,9 @@ def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, rati
 def subset(plan: dict, index) -> dict:
     """The plan of some of ``plan``'s strokes, in order: ``index`` a slice or ascending (K,) int array."""
     paths = plan["paths"]
-    return {"anchors": plan["anchors"][index], "colours": plan["colours"][index],
-            "anchor_colours": plan["anchor_colours"][index], "angles": plan["angles"][index],
-            "paths": PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment)}
+    part = {key: value[index] for key, value in plan.items() if key != "paths"}
+    part["paths"] = PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment)
+    return part
 
 
 def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
@@ -225,11 +227,11 @@ def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: t
 
 def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, canvas: Canvas,
                       reference: np.ndarray) -> tuple:
-    """(``footprints_of`` a plan's N strokes, (N,) bool whether each ``improves`` ``canvas`` by
-    ``params.mend_ratio``), runs of strokes made and judged on the worker threads."""
+    """(``footprints_of`` a plan's N strokes, (N,) bool whether each ``improves`` ``canvas`` by its
+    ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
     def made_and_judged(part: dict) -> tuple:
         footprints = strokes_footprints(part, size, tip, params, canvas.height.shape)
-        return footprints, improves(canvas, footprints, reference, params.mend_ratio)
+        return footprints, improves(canvas, footprints, reference, part["ratios"])
 
     parts = in_runs(plan, size, tip, made_and_judged)
     return Footprints.joined([part[0] for part in parts]), np.concatenate([part[1] for part in parts])
