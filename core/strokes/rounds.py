@@ -107,9 +107,9 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
 
 def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, ratio) -> np.ndarray:
     """(N,) bool: whether each of N strokes' ``footprints``, laid alone on ``canvas`` as it is, mends more
-    than ``ratio`` (a number, or (N,) one per stroke) times the error it spoils. With e and e' a pixel's squared Euclidean RGB distance from
-    ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the stroke mends sum max(0, e - e') and
-    spoils sum max(0, e' - e) over its pixels."""
+    than ``ratio`` (a number, or (N,) one per stroke) times the error it spoils. With e and e' a pixel's
+    squared Euclidean RGB distance from ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the
+    stroke mends sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels."""
     pixel, starts = footprints.pixel, footprints.starts
     before = np.take(canvas.colour.reshape(-1, 3), pixel, axis=0)
     target = np.take(reference.reshape(-1, 3), pixel, axis=0)
