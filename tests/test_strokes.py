@@ -553,6 +553,26 @@ def test_determinism():
     assert not np.array_equal(a.colour, c.colour)
 
 
+@pytest.mark.parametrize("method", ["huang11", "hertzmann98"])
+def test_the_painter_reads_its_input_and_never_writes_it(method):
+    """The painter works on the caller's array itself when it is float32 in [0, 1] (no copy of the
+    photo is held), so it must leave that array as it was; an image out of range is painted as its
+    clipped copy, and the caller's array is still left as it was."""
+    rng = np.random.default_rng(2)
+    img = gradient(48, 64)
+    img[10:30, 20:50] = rng.uniform(0, 1, (20, 30, 3)).astype(np.float32)
+    before = img.copy()
+    painted = paint(img, Params(seed=3, method=method))
+    np.testing.assert_array_equal(img, before)
+    wide = img * np.float32(1.5) - np.float32(0.25)              # some values below 0 and above 1
+    wide_before = wide.copy()
+    stretched = paint(wide, Params(seed=3, method=method))
+    np.testing.assert_array_equal(wide, wide_before)
+    clipped = paint(np.clip(wide, 0, 1), Params(seed=3, method=method))
+    np.testing.assert_array_equal(stretched.colour, clipped.colour)
+    assert not np.array_equal(stretched.colour, painted.colour)
+
+
 # ---------------------------------------------------------------------------
 # 11. bundled samples
 

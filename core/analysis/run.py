@@ -19,13 +19,19 @@ from .partition import detail_threshold, nearest_size, partition
 
 
 def check_image(image: np.ndarray) -> np.ndarray:
-    """The image as float32 (H, W, 3) in [0, 1]; InputError for any other shape or non-finite values."""
+    """The image as float32 (H, W, 3) in [0, 1]; InputError for any other shape or non-finite values.
+
+    A float32 image already in [0, 1] comes back as it is, not copied (the
+    painter only reads it): at 16 MP a copy would hold 183 MiB more.
+    """
     a = np.asarray(image, dtype=np.float32)
     if a.ndim != 3 or a.shape[2] != 3 or a.shape[0] < 1 or a.shape[1] < 1:
         raise InputError(f"The image must be an (H, W, 3) array with H, W >= 1, got shape {a.shape}.")
     if not np.all(np.isfinite(a)):
         raise InputError("The image holds NaN or infinite values.")
-    return np.clip(a, 0.0, 1.0)
+    if a.min() < 0.0 or a.max() > 1.0:
+        return np.clip(a, 0.0, 1.0)
+    return a
 
 
 def analyze(image: np.ndarray, params: Params, mask: Optional[np.ndarray] = None,

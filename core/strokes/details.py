@@ -53,6 +53,11 @@ def ring_footprint(smallest: int) -> np.ndarray:
     return d > inner
 
 
+RING_CHUNK_VALUES = 1 << 21
+"""Ring pixels gathered at once (candidates times ring size): bounds the memory of the ring test, whose ring
+grows with the square of the smallest brush (800 pixels at 16 MP)."""
+
+
 def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.ndarray = None) -> np.ndarray:
     """(H, W) bool: isolated point features of a lightness image (ALGORITHM §5, detail pass).
 
@@ -62,26 +67,27 @@ def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.nd
     more than ``contrast`` than every pixel of its ``ring_footprint`` but the
     RING_ALLOWANCE brightest (a light), or a 3 x 3 minimum darker by more than
     every one but the RING_ALLOWANCE darkest (a dark point). The ring is
-    gathered at the tested extremes only; pixels beyond the border repeat the
-    nearest one.
+    gathered at the tested extremes only, RING_CHUNK_VALUES values at a time;
+    pixels beyond the border repeat the nearest one.
     """
     top = lum == ndimage.maximum_filter(lum, size=3)
     bottom = lum == ndimage.minimum_filter(lum, size=3)
     test = (top | bottom) if where is None else (top | bottom) & where
     rows, cols = np.nonzero(test)
     found = np.zeros(lum.shape, bool)
-    if rows.size == 0:
-        return found
     ring_mask = ring_footprint(smallest)
     dy, dx = np.nonzero(ring_mask)
     reach = ring_mask.shape[0] // 2
-    ring = lum[np.clip(rows[:, None] + dy - reach, 0, lum.shape[0] - 1),
-               np.clip(cols[:, None] + dx - reach, 0, lum.shape[1] - 1)]
-    centre = lum[rows, cols]
-    k = RING_ALLOWANCE
-    light = top[rows, cols] & (centre - np.partition(ring, -1 - k, axis=1)[:, -1 - k] > contrast)
-    dark = bottom[rows, cols] & (np.partition(ring, k, axis=1)[:, k] - centre > contrast)
-    found[rows, cols] = light | dark
+    step = max(1, RING_CHUNK_VALUES // len(dy))
+    for first in range(0, rows.size, step):
+        r, c = rows[first:first + step], cols[first:first + step]
+        ring = np.take(lum, np.clip(r[:, None] + (dy - reach), 0, lum.shape[0] - 1) * lum.shape[1]
+                       + np.clip(c[:, None] + (dx - reach), 0, lum.shape[1] - 1))
+        centre = lum[r, c]
+        k = RING_ALLOWANCE
+        light = top[r, c] & (centre - np.partition(ring, -1 - k, axis=1)[:, -1 - k] > contrast)
+        dark = bottom[r, c] & (np.partition(ring, k, axis=1)[:, k] - centre > contrast)
+        found[r, c] = light | dark
     return found
 
 
