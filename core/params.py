@@ -88,7 +88,8 @@ class Params:
     spoils the feature as much, and the next layer undoes it: a two-pixel line drawn on one layer and covered
     by its neighbours' strokes on the next. A stroke placed at p_min (rule 1) on a layer after the first is
     laid unless it spoils more than this many times what it mends: a wide brush covering a last bare spot of
-    its grid must not sweep over small features painted since. 0 lays every stroke (the paper)."""
+    its grid must not sweep over small features painted since; the spot is left to the layer's next smaller
+    brush, judged again. 0 lays every stroke (the paper)."""
     orientation_threshold: float = math.pi / 6
     """T_o: a path stops where the orientation turns more than this from the anchor's."""
     path_rule: str = "natural"
@@ -129,8 +130,8 @@ class Params:
     lift_buildup: float = 0.15
     """Extra height gathered just before a stroke's lift-off end, as a fraction of its body."""
     detail_pass: bool = True
-    """After the layers, dot small features the layers missed (lights, stars, glints, thin wires) with the
-    smallest brush (ALGORITHM §5, detail pass)."""
+    """After the layers, dot isolated point highlights the layers missed (lights, stars, glints) with the
+    smallest brush, one dab each (ALGORITHM §5, detail pass)."""
     height_mode: str = "over"
     """'over' (the paper's weighted sum) or 'accumulate' (new paint on part of the old, bounded)."""
     height_build: float = 0.5

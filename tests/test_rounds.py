@@ -211,14 +211,7 @@ def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it
     # a dark sky with a bright galaxy, both painted, and one bare spot left beside the galaxy
     params = Params(seed=1)
     h, w, size = 40, 80, 32
-    yy, xx = np.mgrid[0:h, 0:w]
-    sky = np.full((h, w, 3), 0.05, np.float32)
-    sky[(yy - 20) ** 2 + (xx - 40) ** 2 <= 9] = 0.9
-    canvas = Canvas.blank((h, w), (0.93, 0.9, 0.84))
-    canvas.colour[:] = sky
-    canvas.opacity[:] = canvas.coverage[:] = 1.0
-    canvas.colour[19:22, 29:31] = (0.93, 0.9, 0.84)
-    canvas.opacity[19:22, 29:31] = canvas.coverage[19:22, 29:31] = 0.0
+    sky, canvas = galaxy_with_a_bare_spot(h, w)
     plan, tip = one_stroke_plan(sky, canvas, (30, 20), size, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, sky)
     assert spoiled > 2.0 * mended > 0, (mended, spoiled)          # it sweeps the sky's dark over the galaxy
@@ -231,3 +224,44 @@ def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it
                               params, judged=np.array([ratio]))
         assert len(strokes) == laid
         assert (painted.colour[20, 40] == sky[20, 40]).all() == (laid == 0)
+
+
+def galaxy_with_a_bare_spot(h: int, w: int) -> tuple:
+    """A dark sky with a bright galaxy at (40, 20), painted, and one bare spot left at x 29-30, y 19-21:
+    (sky (h, w, 3), canvas)."""
+    yy, xx = np.mgrid[0:h, 0:w]
+    sky = np.full((h, w, 3), 0.05, np.float32)
+    sky[(yy - 20) ** 2 + (xx - 40) ** 2 <= 9] = 0.9
+    canvas = Canvas.blank((h, w), (0.93, 0.9, 0.84))
+    canvas.colour[:] = sky
+    canvas.opacity[:] = canvas.coverage[:] = 1.0
+    canvas.colour[19:22, 29:31] = (0.93, 0.9, 0.84)
+    canvas.opacity[19:22, 29:31] = canvas.coverage[19:22, 29:31] = 0.0
+    return sky, canvas
+
+
+def test_a_bare_spot_refused_to_a_wide_brush_is_covered_by_the_next_smaller_one():
+    from core.methods.huang11 import paint_layer
+    from core.strokes.brush import brush_tip, load_brush
+    from core.strokes.stroke import colour_sources
+    params = Params(seed=1)
+    h, w = 40, 80
+    sky, canvas = galaxy_with_a_bare_spot(h, w)
+    sizes = (32, 6)
+    grids = np.array([(0, 0, 64, 40), (64, 0, 80, 20), (64, 20, 80, 40)])      # the spot lies in the wide grid
+    runs = [(32, 0, 1), (6, 1, 3)]
+    sources = colour_sources(sky, sizes, params)
+    tips = {s: brush_tip(load_brush(params.brush), s, params.transparency) for s in sizes}
+    orientation = np.zeros((h, w), np.float32)
+    reports = []
+    for layer, ratio, widths in ((1, 2.0, [6]), (0, 2.0, [32]), (1, 0.0, [32])):
+        painted = Canvas(canvas.colour.copy(), canvas.coverage.copy(), canvas.height.copy(), canvas.opacity.copy())
+        strokes = paint_layer(painted, layer, grids, runs, orientation, tips, sources,
+                              Params(seed=1, mend_ratio=ratio), lambda done, count: reports.append((done, count)))
+        # later layers: the wide brush would sweep the sky over the galaxy, so the small one covers the spot;
+        # the first layer (and the paper, ratio 0) lays the wide one
+        assert [s.size for s in strokes] == widths
+        assert strokes[0].anchor in {(29, 19), (30, 19), (29, 20), (30, 20), (29, 21), (30, 21)}
+        assert painted.opacity[19:22, 29:31].min() >= params.coverage_threshold
+        assert (np.abs(painted.colour[20, 40] - sky[20, 40]).max() < 0.1) == (widths == [6])
+    assert reports[:2] == [(1, 0), (2, 1)]                                        # progress after each run

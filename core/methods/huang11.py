@@ -113,10 +113,7 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
                  params: Params, stage: Stage, one_by_one: bool = False) -> tuple:
     """Run every layer over every grid, largest first, one round per stroke size (ALGORITHM §5, "Speed").
 
-    Within a layer the grids of one size are a run (``painting_order``): their
-    anchors are chosen and their strokes planned from the canvas as it stood
-    when the run began, then laid in order. Grid i of layer l draws its
-    random numbers from stream (seed, l, i). Returns (strokes, strokes per layer).
+    Returns (strokes, strokes per layer); see ``paint_layer``.
     """
     order = painting_order(analysis.grids, analysis.grid_sizes)
     grids = analysis.grids[order]
@@ -124,22 +121,54 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
     strokes: List[Stroke] = []
     per_layer: List[int] = []
     for layer in range(params.layers):
-        draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
-        count = 0
-        for done, (size, first, stop) in enumerate(runs):
-            anchors, chosen, by_difference = choose_anchors(
-                grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges, params.coverage_threshold,
-                params.difference_threshold, draws[first:stop, 0])
-            laid = paint_round(canvas, sources[size], analysis.orientation, anchors[chosen], size, layer,
-                               tips[size], draws[first:stop][chosen, 1:], params, one_by_one,
-                               judged=mend_ratios(by_difference[chosen], layer, params.mend_ratio))
-            strokes += laid
-            count += len(laid)
-            stage.check()
-            stage.report((layer + (done + 1) / len(runs)) / params.layers,
-                         f"Layer {layer + 1}/{params.layers}: {len(strokes)} strokes")
-        per_layer.append(count)
+        laid = paint_layer(canvas, layer, grids, runs, analysis.orientation, tips, sources, params,
+                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)), one_by_one)
+        strokes += laid
+        per_layer.append(len(laid))
     return strokes, per_layer
+
+
+def layer_progress(stage: Stage, layer: int, layers: int, runs: int, before: int):
+    """report(runs done, strokes laid) for ``paint_layer``: polls cancel and shows the layer and the stroke count
+    (``before`` laid by earlier layers)."""
+    def report(done: int, count: int) -> None:
+        stage.check()
+        stage.report((layer + done / runs) / layers, f"Layer {layer + 1}/{layers}: {before + count} strokes")
+    return report
+
+
+def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orientation: np.ndarray, tips: dict,
+                sources: Dict[int, ColourSources], params: Params, report, one_by_one: bool = False) -> List[Stroke]:
+    """One layer over (N, 4) ``grids`` in painting order, one round per run (size, first, stop) of ``runs``.
+
+    The grids of one size are a run (``painting_order``): their anchors are
+    chosen and their strokes planned from the canvas as it stood when the run
+    began, then laid in order. Grid i draws its random numbers from stream
+    (seed, layer, i). A bare spot whose stroke was refused (``mend_ratios``)
+    is left to the next smaller brush: its anchor, with its stream, opens
+    that size's run if it is still bare when the run begins (``still_bare``),
+    and is judged again there. report(runs done, strokes laid) is called after
+    each run. Returns the layer's strokes.
+    """
+    draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
+    strokes: List[Stroke] = []
+    waiting = np.zeros((0, 2), np.int64), np.zeros((0, 4))          # refused bare spots' anchors and draws
+    for done, (size, first, stop) in enumerate(runs):
+        anchors, chosen, by_difference = choose_anchors(
+            grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges, params.coverage_threshold,
+            params.difference_threshold, draws[first:stop, 0])
+        bare = still_bare(waiting[0], canvas.opacity, params.coverage_threshold)
+        anchors = np.concatenate([waiting[0][bare], anchors[chosen]])
+        run_draws = np.concatenate([waiting[1][bare], draws[first:stop][chosen, 1:]])
+        spots = np.concatenate([np.ones(int(bare.sum()), bool), ~by_difference[chosen]])
+        ratios = mend_ratios(~spots, layer, params.mend_ratio)
+        laid = paint_round(canvas, sources[size], orientation, anchors, size, layer, tips[size], run_draws, params,
+                           one_by_one, judged=ratios)
+        left = spots & refused(anchors, laid) if ratios is not None else np.zeros(len(anchors), bool)
+        waiting = anchors[left], run_draws[left]
+        strokes += laid
+        report(done + 1, len(strokes))
+    return strokes
 
 
 def mend_ratios(by_difference: np.ndarray, layer: int, ratio: float) -> Optional[np.ndarray]:
@@ -149,11 +178,24 @@ def mend_ratios(by_difference: np.ndarray, layer: int, ratio: float) -> Optional
     A stroke placed where the canvas differs from the reference (``by_difference``) must mend ``ratio``
     times what it spoils. One placed to cover a bare spot is laid on the first layer, which lays the
     ground, and on later layers unless it spoils more than ``ratio`` times what it mends: a wide brush
-    covering a last bare spot of its grid must not sweep the dark of a sky over a galaxy painted since.
+    covering a last bare spot of its grid must not sweep the dark of a sky over a galaxy painted since
+    (the spot is then left to a smaller brush, ``paint_layers``).
     """
     if ratio <= 0:
         return None
     return np.where(by_difference, ratio, 1.0 / ratio if layer > 0 else 0.0)
+
+
+def still_bare(anchors: np.ndarray, opacity: np.ndarray, coverage_threshold: float) -> np.ndarray:
+    """(K,) bool: whether the canvas ``opacity`` (H, W) at each of K (x, y) ``anchors`` is still below T_c."""
+    return opacity[anchors[:, 1], anchors[:, 0]] < coverage_threshold
+
+
+def refused(anchors: np.ndarray, laid: List[Stroke]) -> np.ndarray:
+    """(N,) bool: which of a round's N (x, y) ``anchors`` have no stroke among ``laid`` (a round's anchors
+    are distinct pixels: each lies in its own grid)."""
+    kept = {stroke.anchor for stroke in laid}
+    return np.array([anchor not in kept for anchor in map(tuple, anchors.tolist())], bool)
 
 
 def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
