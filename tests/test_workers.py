@@ -9,7 +9,7 @@ from test_rounds import photo, same_painting
 from core import workers
 from core.methods import huang11
 from core.params import Params
-from core.strokes import layout, rounds
+from core.strokes import canvas, layout, rounds
 
 
 @pytest.mark.parametrize("parts", [1, 2, 3, 7])
@@ -44,25 +44,40 @@ def test_run_all_keeps_the_order_of_its_items_and_uses_threads():
 
 
 def painted_by(monkeypatch, count: int):
-    """A small painting made with ``count`` workers, every round, grid run and stroke run split between them;
-    returns (painting, the most runs any piece of work was cut into)."""
+    """A small painting made with ``count`` workers, every round, grid run, stroke run and lay split between
+    them; returns (painting, the most runs any piece of work was cut into, the most bands a lay was cut into)."""
     image = photo(3, 64, 72, "blobs")
     params = Params(seed=2, stroke_sizes=(16, 8, 4), layers=3, size_reference_megapixels=0.0046, detail_pass=True)
-    pieces = []
+    pieces, bands = [], []
     split = workers.balanced_runs
     monkeypatch.setattr(rounds, "balanced_runs", lambda *args: pieces.append(split(*args)) or pieces[-1])
-    monkeypatch.setattr(rounds, "worker_count", lambda: count)
-    monkeypatch.setattr(layout, "worker_count", lambda: count)
+    monkeypatch.setattr(canvas, "balanced_runs", lambda *args: bands.append(split(*args)) or bands[-1])
+    for module in (rounds, layout, canvas):
+        monkeypatch.setattr(module, "worker_count", lambda: count)
+    monkeypatch.setattr(canvas, "LAY_LEAST_ENTRIES", 1)
     monkeypatch.setattr(rounds, "WORKER_LEAST_SAMPLES", 1)
     monkeypatch.setattr(rounds, "WORKER_LEAST_STROKES", 1)
     monkeypatch.setattr(layout, "ANCHOR_LEAST_PIXELS", 1)
-    return huang11.paint(image, params), max(len(p) for p in pieces)
+    return huang11.paint(image, params), max(len(p) for p in pieces), max(len(b) for b in bands)
 
 
 @pytest.mark.parametrize("count", [2, 5])
 def test_the_painting_does_not_depend_on_how_many_workers_share_it(monkeypatch, count):
-    alone, cut = painted_by(monkeypatch, 1)
-    assert cut == 1
-    shared, cut = painted_by(monkeypatch, count)
-    assert cut == count
+    alone, cut, banded = painted_by(monkeypatch, 1)
+    assert cut == banded == 1
+    shared, cut, banded = painted_by(monkeypatch, count)
+    assert cut == banded == count
     same_painting(alone, shared)
+
+
+def test_row_bands_split_the_entries_by_whole_rows_in_order():
+    rng = np.random.default_rng(4)
+    pixel = np.concatenate([rng.integers(0, 600, 300), rng.integers(0, 600, 300)])     # two strokes' worth, 20 x 30
+    bands = canvas.row_bands(pixel, (20, 30), 3, least=50)
+    assert len(bands) == 3
+    np.testing.assert_array_equal(np.sort(np.concatenate(bands)), np.arange(600))      # every entry once
+    rows = [set((pixel[b] // 30).tolist()) for b in bands]
+    assert all(max(rows[k]) < min(rows[k + 1]) for k in range(2))                       # bands of whole rows
+    assert all((np.diff(b) > 0).all() for b in bands)                                    # each in the run's order
+    assert max(len(b) for b in bands) - min(len(b) for b in bands) <= 2 * 30 * 2      # about equal shares
+    assert len(canvas.row_bands(pixel, (20, 30), 3, least=400)) == 1

@@ -6,7 +6,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..workers import balanced_runs, run_all, worker_count
 from .compositing import Footprints
+
+# Entries below which a run is laid in one piece rather than in bands of rows on the worker threads.
+LAY_LEAST_ENTRIES = 1 << 16
 
 
 @dataclass
@@ -39,11 +43,27 @@ class Canvas:
         The k-th stroke to touch a pixel in the run is laid on it in the k-th
         pass, every pixel of a pass at once: each pixel sees its strokes in
         the run's order, so the canvas is exactly what laying the strokes one
-        by one gives (``lay_one``). The arithmetic is ``composite``'s.
+        by one gives (``lay_one``). The arithmetic is ``composite``'s. Bands of
+        rows holding about equal shares of the entries are laid side by side
+        on the worker threads (a pixel's strokes all lie in its band).
         """
         pixel = footprints.pixel
         if pixel.size == 0:
             return
+        inverse = np.take(inverse_full(footprints.full),
+                          np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts)))
+        entries = (pixel, footprints.transmittance, footprints.paint, footprints.deposit, footprints.height, inverse)
+        bands = row_bands(pixel, self.height.shape, worker_count(), LAY_LEAST_ENTRIES)
+        if len(bands) == 1:
+            self._lay_entries(*entries, height_mode, build)
+            return
+        run_all(lambda band: self._lay_entries(*(np.take(values, band, axis=0) for values in entries),
+                                               height_mode, build), bands)
+
+    def _lay_entries(self, pixel: np.ndarray, transmittance: np.ndarray, paint: np.ndarray, deposit: np.ndarray,
+                     raised: np.ndarray, inverse: np.ndarray, height_mode: str, build: float) -> None:
+        """``lay`` of E entries in the run's order: pixel (E,) flat index, the stroke's transmittance, paint
+        (E, 3), deposit and height there, and inverse (E,) 1 / the stroke's full deposit."""
         keys = pixel.astype(np.int32) if self.height.size < 2 ** 31 else pixel
         by_pixel = np.argsort(keys, kind="stable")
         ordered = keys[by_pixel]
@@ -55,12 +75,11 @@ class Canvas:
             rank = rank.astype(np.int16)                       # a radix sort
         order = by_pixel[np.argsort(rank, kind="stable")]      # pass after pass, each in the run's order
         passes = np.bincount(rank)
-        owner = np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts))
         at_all = np.take(pixel, order)
-        keep, deposit = np.take(footprints.transmittance, order), np.take(footprints.deposit, order)
-        raised = np.take(footprints.height, order)
-        paint = np.take(_rows(footprints.paint), order).view(np.float32).reshape(-1, 3)
-        inverse = np.take(inverse_full(footprints.full), np.take(owner, order))
+        keep, deposit = np.take(transmittance, order), np.take(deposit, order)
+        raised = np.take(raised, order)
+        paint = np.take(_rows(paint), order).view(np.float32).reshape(-1, 3)
+        inverse = np.take(inverse, order)
         colour, coverage = _rows(self.colour.reshape(-1, 3)), self.coverage.ravel()
         height, opacity = self.height.ravel(), self.opacity.ravel()
         done = 0
@@ -101,6 +120,17 @@ class Canvas:
         (self.colour[box], self.coverage[box], self.height[box], self.opacity[box]) = composite(
             self.colour[box], self.coverage[box], self.height[box], self.opacity[box], keep, paint, deposit,
             stroke_height, inverse, height_mode, build)
+
+
+def row_bands(pixel: np.ndarray, shape: tuple, parts: int, least: int) -> list:
+    """[(K,) int64 ascending indices into ``pixel``, ...]: the entries of E flat pixel indices on an (H, W)
+    canvas cut into at most ``parts`` bands of whole rows holding about equal shares (at least ``least``
+    entries each; one band, all entries, when there are fewer than 2 ``least``)."""
+    runs = balanced_runs(np.bincount(pixel // shape[1], minlength=shape[0]), parts, least)
+    if len(runs) == 1:
+        return [np.arange(len(pixel))]
+    band = np.searchsorted(np.array([first for first, _ in runs[1:]]) * shape[1], pixel, side="right")
+    return [np.flatnonzero(band == k) for k in range(len(runs))]
 
 
 def _rows(values: np.ndarray) -> np.ndarray:
