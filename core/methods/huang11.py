@@ -179,7 +179,7 @@ def mend_ratios(by_difference: np.ndarray, layer: int, ratio: float) -> Optional
     times what it spoils. One placed to cover a bare spot is laid on the first layer, which lays the
     ground, and on later layers unless it spoils more than ``ratio`` times what it mends: a wide brush
     covering a last bare spot of its grid must not sweep the dark of a sky over a galaxy painted since
-    (the spot is then left to a smaller brush, ``paint_layers``).
+    (the spot is then left to a smaller brush, ``paint_layer``).
     """
     if ratio <= 0:
         return None
