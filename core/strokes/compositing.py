@@ -21,6 +21,7 @@ per-stroke box of untouched pixels is ever filled.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -81,7 +82,7 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     Runs are [starts[i], starts[i + 1]); linear between order statistics as
     np.percentile (in float64); 0 for a run with no positive entry. One sort
     of the whole array: each value's float32 bits (which order non-negative
-    floats) below its run's index.
+    floats) below its run's index, as the two halves of one 64-bit key.
     """
     n = len(starts) - 1
     out = np.zeros(n, np.float32)
@@ -90,10 +91,13 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     if not nonempty.any():
         return out
     deposit = np.ascontiguousarray(deposit, np.float32)
-    owner = np.repeat(np.arange(n, dtype=np.uint64), counts)
-    keys = (owner << np.uint64(32)) | deposit.view(np.uint32).astype(np.uint64)
+    keys = np.empty(len(deposit), np.uint64)
+    halves = keys.view(np.uint32).reshape(-1, 2)
+    low = 0 if sys.byteorder == "little" else 1
+    halves[:, low] = deposit.view(np.uint32)
+    halves[:, 1 - low] = np.repeat(np.arange(n, dtype=np.uint32), counts)
     keys.sort()
-    ordered = (keys & np.uint64(0xFFFFFFFF)).astype(np.uint32).view(np.float32)
+    ordered = keys.view(np.uint32).reshape(-1, 2)[:, low].view(np.float32)
     positive = np.zeros(n, np.int64)
     positive[nonempty] = np.add.reduceat((deposit > 0).astype(np.int64), starts[:-1][nonempty])
     has = positive > 0
@@ -101,9 +105,9 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     position = 0.9 * (count - 1)
     below = position.astype(np.int64)
     first = starts[1:][has] - count                              # the positives are each run's last entries
-    low = ordered[first + below].astype(np.float64)
-    high = np.where(below + 1 < count, ordered[np.minimum(first + below + 1, len(ordered) - 1)], low)
-    out[has] = (low + (high - low) * (position - below)).astype(np.float32)
+    low_value = ordered[first + below].astype(np.float64)
+    high = np.where(below + 1 < count, ordered[np.minimum(first + below + 1, len(ordered) - 1)], low_value)
+    out[has] = (low_value + (high - low_value) * (position - below)).astype(np.float32)
     return out
 
 
@@ -251,43 +255,58 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     cut = np.searchsorted(np.cumsum(area), np.arange(1, int(area.sum() // SPLAT_CHUNK_PIXELS) + 1)
                           * SPLAT_CHUNK_PIXELS)
     bounds = np.unique(np.concatenate(([0], cut, [n])))
-    pixels, sums, owners = [], [], []
+    inside = (x0 >= 0) & (y0 >= 0) & (x0 + box_w <= w) & (y0 + area // box_w <= h)         # (N,) box on the canvas
+    pixels, sums, counts = [], [], []
     for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
         lo, hi = int(track_starts[a]), int(track_starts[b])
         box_start = np.zeros(b - a + 1, np.int64)
         np.cumsum(area[a:b], out=box_start[1:])
-        o = np.repeat(np.arange(a, b), np.diff(track_starts[a:b + 1]))                       # (k,) stroke of a sample
-        stride = box_w[o].astype(np.int32)[:, None]
-        origin = (box_start[o - a] - y0[o] * box_w[o] - x0[o]).astype(np.int32)[:, None]
-        base = iy[lo:hi] * stride + ix[lo:hi] + origin                                        # (k, W)
-        corners = np.empty(base.shape + (4,), np.int32)
-        corners[..., 0] = base
-        np.add(base, 1, out=corners[..., 1])
-        np.add(base, stride, out=corners[..., 2])
+        samples = np.diff(track_starts[a:b + 1])
+        stride = np.repeat(box_w[a:b].astype(np.int32), samples)[:, None]
+        origin = np.repeat((box_start[:-1] - y0[a:b] * box_w[a:b] - x0[a:b]).astype(np.int32), samples)[:, None]
+        corners = np.empty((hi - lo, n_columns, 4), np.int32)
+        np.multiply(iy[lo:hi], stride, out=corners[..., 0])
+        corners[..., 0] += ix[lo:hi]
+        corners[..., 0] += origin
+        np.add(corners[..., 0], 1, out=corners[..., 1])
+        np.add(corners[..., 0], stride, out=corners[..., 2])
         np.add(corners[..., 2], 1, out=corners[..., 3])
         count = (hi - lo) * n_columns
         splat = sparse.csc_matrix((weights[lo:hi].ravel(), corners.ravel(),
                                    np.arange(0, 4 * count + 1, 4, dtype=np.int32)), shape=(int(box_start[-1]), count))
         laid = splat @ values[lo * n_columns:hi * n_columns]
+        del splat, corners
         touched = np.flatnonzero(laid[:, 4] > 0)                  # contact laid (and so depth) > 0
-        stroke = np.repeat(np.arange(a, b), np.diff(np.searchsorted(touched, box_start)))
-        local = touched - box_start[stroke - a]
-        row = np.floor((local + 0.5) / box_w[stroke]).astype(np.int64)      # exact: local < 2^52
-        column = local - row * box_w[stroke] + x0[stroke]
-        row += y0[stroke]
-        on = (row >= 0) & (row < h) & (column >= 0) & (column < w)
-        if not on.all():
-            touched, stroke, row, column = touched[on], stroke[on], row[on], column[on]
-        pixels.append(row * w + column)
+        per_stroke = np.diff(np.searchsorted(touched, box_start))
+        local = touched - np.repeat(box_start[:-1], per_stroke)
+        width = np.repeat(box_w[a:b], per_stroke)
+        row = np.floor((local + 0.5) / width).astype(np.int64)          # exact: local < 2^52
+        column = local - row * width + np.repeat(x0[a:b], per_stroke)
+        row += np.repeat(y0[a:b], per_stroke)
+        if not inside[a:b].all():
+            on = (row >= 0) & (row < h) & (column >= 0) & (column < w)
+            offsets = np.zeros(b - a + 1, np.int64)
+            np.cumsum(per_stroke, out=offsets[1:])
+            kept = np.zeros(b - a, np.int64)
+            has = per_stroke > 0
+            kept[has] = np.add.reduceat(on, offsets[:-1][has])
+            touched, row, column, per_stroke = touched[on], row[on], column[on], kept
+        row *= w
+        row += column
+        pixels.append(row)
         sums.append(np.take(laid.view(np.dtype((np.void, 24))).ravel(), touched).view(np.float32).reshape(-1, 6))
-        owners.append(stroke)
-    pixel, laid, stroke = np.concatenate(pixels), np.concatenate(sums), np.concatenate(owners)
+        counts.append(per_stroke)
+        del laid
+    join = (lambda parts: parts[0]) if len(pixels) == 1 else np.concatenate
+    pixel, laid = join(pixels), join(sums)
     starts = np.zeros(n + 1, np.int64)
-    np.cumsum(np.bincount(stroke, minlength=n), out=starts[1:])
+    np.cumsum(join(counts), out=starts[1:])
     depth = np.ascontiguousarray(laid[:, 0])
     transmittance = np.exp(-depth)
     share = np.divide(1.0 - transmittance, depth, out=np.zeros_like(depth), where=depth > 0)
-    paint = laid[:, 1:4] * share[:, None]
+    paint = np.empty((len(depth), 3), np.float32)
+    for channel in range(3):                                     # strided columns, no broadcast
+        np.multiply(laid[:, 1 + channel], share, out=paint[:, channel])
     deposit = np.ascontiguousarray(laid[:, 4])
     return Footprints(starts, pixel, transmittance, paint, deposit, np.ascontiguousarray(laid[:, 5]),
                       full_deposits(deposit, starts))
