@@ -194,11 +194,9 @@ def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray,
     ends = np.flatnonzero((first_row > 0) | (last_row < n_rows - 1) | (touch < 1.0))
     tables = RowTables.of(grid, passes)
     whole_log, whole_laid = tables.runs(np.zeros(1, np.int64), np.full(1, n_rows - 1), np.ones(1))
-    log_total = np.repeat(whole_log, len(k), axis=0)
-    laid = np.repeat(whole_laid, len(k), axis=0)
-    log_total[ends], laid[ends] = tables.runs(first_row[ends], last_row[ends], touch[ends])
-    colour = run_colours(grid, grid_colours, passes, np.arange(n), np.zeros(n, np.int64),
-                         np.full(n, n_rows - 1))[owner]
+    end_log, end_laid = tables.runs(first_row[ends], last_row[ends], touch[ends])
+    colour = np.repeat(run_colours(grid, grid_colours, passes, np.arange(n), np.zeros(n, np.int64),
+                                   np.full(n, n_rows - 1)), count + n_rows - 1, axis=0)
     colour[ends] = run_colours(grid, grid_colours, passes, owner[ends], first_row[ends], last_row[ends])
 
     # where each track sample lies: the path at its arc, going on straight past the ends
@@ -213,10 +211,14 @@ def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray,
     span[count[owner] + n_rows - 1 == 1] = 1.0
 
     # what each track sample lays per unit of splat weight: depth, depth-weighted colour, contact, height
-    values = np.empty(log_total.shape + (6,), np.float32)
-    np.negative(log_total, out=values[..., 0])
-    np.multiply(values[..., 0:1], colour, out=values[..., 1:4])
-    np.multiply(laid, np.float32(1.0 / float(rows)), out=values[..., 4])
+    values = np.empty((len(k), n_columns, 6), np.float32)
+    per_row = np.float32(1.0 / float(rows))
+    values[..., 0] = -whole_log
+    values[ends, :, 0] = -end_log
+    values[..., 4] = whole_laid * per_row
+    values[ends, :, 4] = end_laid * per_row
+    for channel in range(3):
+        np.multiply(values[..., 0], colour[..., channel], out=values[..., 1 + channel])
     np.multiply(values[..., 4], (build[:, None] * ridge[None, :]).astype(np.float32), out=values[..., 5])
     return _splat(x, y, span, values, track_starts, (h, w))
 
