@@ -184,7 +184,7 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 20), size, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, light)
     assert mended > 0 and spoiled == 0
-    assert improves(canvas, footprints_of(plan, size, tip, params, (h, w)), light, 2.0).tolist() == [True]
+    assert improves(canvas.colour, footprints_of(plan, size, tip, params, (h, w)), light, 2.0).tolist() == [True]
     # the same stroke over a canvas that already matches a dark line beside it: a light stroke anchored
     # one row off a two-pixel dark line mends its own row and spoils the line
     line = light.copy()
@@ -196,8 +196,8 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, 2, tip, params, line)
     assert 0 < mended <= 2.0 * spoiled, (mended, spoiled)
     footprints = footprints_of(plan, 2, tip, params, (h, w))
-    assert improves(canvas, footprints, line, 2.0).tolist() == [False]
-    assert improves(canvas, footprints, line, 0.5 * mended / spoiled).tolist() == [True]
+    assert improves(canvas.colour, footprints, line, 2.0).tolist() == [False]
+    assert improves(canvas.colour, footprints, line, 0.5 * mended / spoiled).tolist() == [True]
 
 
 def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it_mends():

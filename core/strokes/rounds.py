@@ -78,7 +78,8 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
                    for i in range(len(anchors))]
         if judged is not None:
             planned = [plan for plan, ratio in zip(planned, judged.tolist(), strict=True)
-                       if not ratio or improves(canvas, footprints_of(plan, size, tip, params, canvas.height.shape),
+                       if not ratio or improves(canvas.colour, footprints_of(plan, size, tip, params,
+                                                                             canvas.height.shape),
                                                 sources.reference, ratio)[0]]
         for plan in planned:
             lay_round(canvas, plan, size, tip, params, one_by_one=True)
@@ -87,31 +88,41 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
     chunks = lay_chunks(plan["paths"], tip, size)
     if judged is not None and judged.any():
         plan["ratios"] = judged
-        if len(chunks) == 1:                          # one chunk: its footprints are judged, then laid
-            footprints, mends = judged_footprints(plan, size, tip, params, canvas, sources.reference)
-            keep = mends | (judged == 0)
-            canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
-            return records(subset(plan, np.flatnonzero(keep)), size, layer)
-        asked = np.flatnonzero(judged)                # only the judged strokes' footprints are made to judge them
-        trial = subset(plan, asked)
-        keep = judged == 0
-        keep[asked] = np.concatenate([
-            judged_footprints(subset(trial, slice(first, stop)), size, tip, params, canvas, sources.reference)[1]
-            for first, stop in lay_chunks(trial["paths"], tip, size)])
-        plan = subset(plan, np.flatnonzero(keep))
-        chunks = lay_chunks(plan["paths"], tip, size)
+        kept = judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference)
+        return records(subset(plan, kept), size, layer)
     for first, stop in chunks:
         lay_round(canvas, subset(plan, slice(first, stop)), size, tip, params)
     return records(plan, size, layer)
 
 
-def improves(canvas: Canvas, footprints: Footprints, reference: np.ndarray, ratio) -> np.ndarray:
-    """(N,) bool: whether each of N strokes' ``footprints``, laid alone on ``canvas`` as it is, mends more
+def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: BrushTip, params: Params,
+                  reference: np.ndarray) -> np.ndarray:
+    """Judge a plan's strokes by their ``plan["ratios"]`` (``improves``; 0 keeps a stroke unjudged) on the canvas
+    as the round found it, and lay the kept ones in order, one of ``lay_chunks``' (first, stop) ``chunks`` after
+    another; returns the kept strokes' indices, ascending.
+
+    Each chunk's footprints are made once, judged, and its kept strokes' footprints laid before the next chunk
+    is made, so a round holds one chunk's footprints at a time. A round of several chunks judges against a
+    copy of the canvas colour taken before its first chunk is laid (the judge reads nothing else).
+    """
+    found = canvas.colour.copy() if len(chunks) > 1 else canvas.colour
+    kept = []
+    for first, stop in chunks:
+        part = subset(plan, slice(first, stop))
+        footprints, mends = judged_footprints(part, size, tip, params, found, reference)
+        keep = mends | (part["ratios"] == 0)
+        canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
+        kept.append(first + np.flatnonzero(keep))
+    return np.concatenate(kept)
+
+
+def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, ratio) -> np.ndarray:
+    """(N,) bool: whether each of N strokes' ``footprints``, laid alone on a canvas of ``colour`` (H, W, 3), mends more
     than ``ratio`` (a number, or (N,) one per stroke) times the error it spoils. With e and e' a pixel's
     squared Euclidean RGB distance from ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the
     stroke mends sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels."""
     pixel, starts = footprints.pixel, footprints.starts
-    before = np.take(canvas.colour.reshape(-1, 3), pixel, axis=0)
+    before = np.take(colour.reshape(-1, 3), pixel, axis=0)
     target = np.take(reference.reshape(-1, 3), pixel, axis=0)
     after = before * footprints.transmittance[:, None] + footprints.paint
     after -= target
@@ -225,13 +236,13 @@ def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: t
     return Footprints.joined(in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape)))
 
 
-def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, canvas: Canvas,
+def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
                       reference: np.ndarray) -> tuple:
-    """(``footprints_of`` a plan's N strokes, (N,) bool whether each ``improves`` ``canvas`` by its
-    ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
+    """(``footprints_of`` a plan's N strokes, (N,) bool whether each ``improves`` the canvas ``colour`` (H, W, 3)
+    by its ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
     def made_and_judged(part: dict) -> tuple:
-        footprints = strokes_footprints(part, size, tip, params, canvas.height.shape)
-        return footprints, improves(canvas, footprints, reference, part["ratios"])
+        footprints = strokes_footprints(part, size, tip, params, colour.shape[:2])
+        return footprints, improves(colour, footprints, reference, part["ratios"])
 
     parts = in_runs(plan, size, tip, made_and_judged)
     return Footprints.joined([part[0] for part in parts]), np.concatenate([part[1] for part in parts])

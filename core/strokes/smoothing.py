@@ -69,8 +69,10 @@ def block_mean(image: np.ndarray, factor: int) -> np.ndarray:
     """(ceil(H / f), ceil(W / f), C) float32 means of f x f blocks of an (H, W, C) image (partial edge blocks too)."""
     h, w = image.shape[:2]
     ny, nx = -(-h // factor), -(-w // factor)
-    padded = np.pad(image, ((0, ny * factor - h), (0, nx * factor - w), (0, 0)), mode="edge")
-    blocks = padded.reshape(ny, factor, nx, factor, -1).astype(np.float32)
+    image = np.asarray(image, np.float32)
+    if ny * factor != h or nx * factor != w:
+        image = np.pad(image, ((0, ny * factor - h), (0, nx * factor - w), (0, 0)), mode="edge")
+    blocks = np.ascontiguousarray(image).reshape(ny, factor, nx, factor, -1)
     return blocks.mean(axis=(1, 3), dtype=np.float32)
 
 
