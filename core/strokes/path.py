@@ -115,9 +115,12 @@ def catmull_rom(points: np.ndarray, per_segment: int) -> np.ndarray:
         return points.copy()
     padded = np.concatenate((2 * points[:, :1] - points[:, 1:2], points, 2 * points[:, -1:] - points[:, -2:-1]),
                             axis=1)
-    windows = np.stack([padded[:, 0:k - 1], padded[:, 1:k], padded[:, 2:k + 1], padded[:, 3:k + 2]], axis=2)
-    samples = np.einsum("tj,nkjd->nktd", catmull_rom_basis(per_segment), windows).reshape(n, -1, 2)   # no BLAS
-    return np.concatenate((samples, points[:, -1:]), axis=1)
+    basis = catmull_rom_basis(per_segment)[None, None, :, :, None]                        # (1, 1, T, 4, 1)
+    samples = np.empty((n, k - 1, per_segment, 2))
+    np.multiply(basis[..., 0, :], padded[:, 0:k - 1, None, :], out=samples)
+    for j in range(1, 4):                                                 # P0 .. P3 summed in order, no BLAS
+        samples += basis[..., j, :] * padded[:, j:k - 1 + j, None, :]
+    return np.concatenate((samples.reshape(n, -1, 2), points[:, -1:]), axis=1)
 
 
 def resample_by_length(samples: np.ndarray, first: np.ndarray, last: np.ndarray, spacing: float = 1.0) -> tuple:
