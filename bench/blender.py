@@ -140,7 +140,7 @@ def panel_photo(work: Path, megapixels: float, runs: int, size: int, samples: in
     median = {key: statistics.median(r[key] for r in results) for key in ("paint", "build", "panel")}
     peak = max(r["peak_mib"] for r in results)
     print(f"{'panel':<8} {'MESH':<16} {median['panel']:>8.2f} {peak:>9.0f}  {w}x{h} ({h * w / 1e6:.1f} MP): "
-          f"paint {median['paint']:.2f} s + build {median['build']:.2f} s, median of {runs}, target <= 30 s",
+          f"paint {median['paint']:.2f} s + build {median['build']:.2f} s, median of {runs}, target <= 15 s",
           flush=True)
 
 
