@@ -102,6 +102,15 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
     canvas.lay(both(red, blue), "over", 0.5)
     np.testing.assert_allclose(canvas.colour[3, 3], 0.5 * (0.3 * 0.9 + np.array([0.7, 0, 0])) + [0, 0, 0.5],
                                atol=1e-6)
+    # strokes left out by ``keep`` are laid as if they were not in the run
+    for keep in ([True, False], [False, True], [False, False]):
+        kept, alone = Canvas.blank((6, 6), (0.9, 0.9, 0.9)), Canvas.blank((6, 6), (0.9, 0.9, 0.9))
+        kept.lay(both(red, blue), "accumulate", 0.5, np.array(keep))
+        for footprint, laid in zip((red, blue), keep, strict=True):
+            if laid:
+                alone.lay_one(footprint, 0, "accumulate", 0.5)
+        for name in ("colour", "height", "opacity", "coverage"):
+            assert getattr(kept, name).tobytes() == getattr(alone, name).tobytes()
 
 
 def test_full_deposits_are_the_90th_percentile_of_each_strokes_positive_deposits():

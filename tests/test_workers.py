@@ -80,4 +80,8 @@ def test_row_bands_split_the_entries_by_whole_rows_in_order():
     assert all(max(rows[k]) < min(rows[k + 1]) for k in range(2))                       # bands of whole rows
     assert all((np.diff(b) > 0).all() for b in bands)                                    # each in the run's order
     assert max(len(b) for b in bands) - min(len(b) for b in bands) <= 2 * 30 * 2      # about equal shares
-    assert len(canvas.row_bands(pixel, (20, 30), 3, least=400)) == 1
+    assert canvas.row_bands(pixel, (20, 30), 3, least=400) is None                       # one band: every entry
+    laid = rng.uniform(size=600) < 0.5
+    some = canvas.row_bands(pixel, (20, 30), 3, least=50, laid=laid)
+    np.testing.assert_array_equal(np.sort(np.concatenate(some)), np.flatnonzero(laid))  # only the laid entries
+    np.testing.assert_array_equal(canvas.row_bands(pixel, (20, 30), 3, least=400, laid=laid)[0], np.flatnonzero(laid))

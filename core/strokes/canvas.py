@@ -37,7 +37,7 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def lay(self, footprints: Footprints, height_mode: str, build: float) -> None:
+    def lay(self, footprints: Footprints, height_mode: str, build: float, keep: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
         The k-th stroke to touch a pixel in the run is laid on it in the k-th
@@ -46,15 +46,18 @@ class Canvas:
         by one gives (``lay_one``). The arithmetic is ``composite``'s. Bands of
         rows holding about equal shares of the entries are laid side by side
         on the worker threads (a pixel's strokes all lie in its band).
+        keep: optional (N,) bool, lay only the strokes where it is True (as
+        if the others were not in the run).
         """
-        pixel = footprints.pixel
-        if pixel.size == 0:
+        counts = np.diff(footprints.starts)
+        laid = None if keep is None or keep.all() else np.repeat(np.asarray(keep, bool), counts)
+        if footprints.pixel.size == 0 or (laid is not None and not laid.any()):
             return
-        inverse = np.take(inverse_full(footprints.full),
-                          np.repeat(np.arange(len(footprints.starts) - 1), np.diff(footprints.starts)))
-        entries = (pixel, footprints.transmittance, footprints.paint, footprints.deposit, footprints.height, inverse)
-        bands = row_bands(pixel, self.height.shape, worker_count(), LAY_LEAST_ENTRIES)
-        if len(bands) == 1:
+        inverse = np.take(inverse_full(footprints.full), np.repeat(np.arange(len(counts)), counts))
+        entries = (footprints.pixel, footprints.transmittance, footprints.paint, footprints.deposit,
+                   footprints.height, inverse)
+        bands = row_bands(footprints.pixel, self.height.shape, worker_count(), LAY_LEAST_ENTRIES, laid)
+        if bands is None:
             self._lay_entries(*entries, height_mode, build)
             return
         run_all(lambda band: self._lay_entries(*(np.take(values, band, axis=0) for values in entries),
@@ -122,14 +125,18 @@ class Canvas:
             stroke_height, inverse, height_mode, build)
 
 
-def row_bands(pixel: np.ndarray, shape: tuple, parts: int, least: int) -> list:
+def row_bands(pixel: np.ndarray, shape: tuple, parts: int, least: int, laid: np.ndarray = None) -> list:
     """[(K,) int64 ascending indices into ``pixel``, ...]: the entries of E flat pixel indices on an (H, W)
     canvas cut into at most ``parts`` bands of whole rows holding about equal shares (at least ``least``
-    entries each; one band, all entries, when there are fewer than 2 ``least``)."""
-    runs = balanced_runs(np.bincount(pixel // shape[1], minlength=shape[0]), parts, least)
+    entries each; one band when there are fewer than 2 ``least``). laid: optional (E,) bool, only these
+    entries are shared out. None when the one band is every entry."""
+    rows = pixel // shape[1]
+    runs = balanced_runs(np.bincount(rows if laid is None else rows[laid], minlength=shape[0]), parts, least)
     if len(runs) == 1:
-        return [np.arange(len(pixel))]
-    band = np.searchsorted(np.array([first for first, _ in runs[1:]]) * shape[1], pixel, side="right")
+        return None if laid is None else [np.flatnonzero(laid)]
+    band = np.searchsorted(np.array([first for first, _ in runs[1:]]), rows, side="right")
+    if laid is not None:
+        band[~laid] = len(runs)
     return [np.flatnonzero(band == k) for k in range(len(runs))]
 
 

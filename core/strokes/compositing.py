@@ -56,14 +56,6 @@ class Footprints:
     height: np.ndarray
     full: np.ndarray
 
-    def of_strokes(self, keep: np.ndarray) -> "Footprints":
-        """The footprints of the strokes where ``keep`` (N,) bool is True, in order."""
-        entries = np.repeat(keep, np.diff(self.starts))
-        starts = np.zeros(int(keep.sum()) + 1, np.int64)
-        np.cumsum(np.diff(self.starts)[keep], out=starts[1:])
-        return Footprints(starts, self.pixel[entries], self.transmittance[entries], self.paint[entries],
-                          self.deposit[entries], self.height[entries], self.full[keep])
-
     @staticmethod
     def joined(parts: list) -> "Footprints":
         """The footprints of several runs of strokes, one run after another."""
@@ -82,7 +74,8 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     Runs are [starts[i], starts[i + 1]); linear between order statistics as
     np.percentile (in float64); 0 for a run with no positive entry. One sort
     of the whole array: each value's float32 bits (which order non-negative
-    floats) below its run's index, as the two halves of one 64-bit key.
+    floats, +0.0 lowest with bits 0) below its run's index, as the two halves
+    of one 64-bit key; a run's zeros are its keys equal to its index << 32.
     """
     n = len(starts) - 1
     out = np.zeros(n, np.float32)
@@ -98,8 +91,7 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     halves[:, 1 - low] = np.repeat(np.arange(n, dtype=np.uint32), counts)
     keys.sort()
     ordered = keys.view(np.uint32).reshape(-1, 2)[:, low].view(np.float32)
-    positive = np.zeros(n, np.int64)
-    positive[nonempty] = np.add.reduceat((deposit > 0).astype(np.int64), starts[:-1][nonempty])
+    positive = starts[1:] - np.searchsorted(keys, (np.arange(n, dtype=np.uint64) << np.uint64(32)) + np.uint64(1))
     has = positive > 0
     count = positive[has]
     position = 0.9 * (count - 1)
@@ -285,16 +277,16 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
         row = np.floor((local + 0.5) / width).astype(np.int64)          # exact: local < 2^52
         column = local - row * width + np.repeat(x0[a:b], per_stroke)
         row += np.repeat(y0[a:b], per_stroke)
-        if not inside[a:b].all():
-            on = (row >= 0) & (row < h) & (column >= 0) & (column < w)
+        on = None if inside[a:b].all() else (row >= 0) & (row < h) & (column >= 0) & (column < w)
+        row *= w
+        row += column
+        if on is not None and not on.all():
             offsets = np.zeros(b - a + 1, np.int64)
             np.cumsum(per_stroke, out=offsets[1:])
             kept = np.zeros(b - a, np.int64)
             has = per_stroke > 0
             kept[has] = np.add.reduceat(on, offsets[:-1][has])
-            touched, row, column, per_stroke = touched[on], row[on], column[on], kept
-        row *= w
-        row += column
+            touched, row, per_stroke = touched[on], row[on], kept
         pixels.append(row)
         sums.append(np.take(laid.view(np.dtype((np.void, 24))).ravel(), touched).view(np.float32).reshape(-1, 6))
         counts.append(per_stroke)

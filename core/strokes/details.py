@@ -19,6 +19,7 @@ from typing import Dict
 import numpy as np
 from scipy import ndimage
 
+from ..workers import run_all
 from .smoothing import SmoothedImage
 
 
@@ -107,13 +108,14 @@ def detail_scores(reference: np.ndarray, canvas_colour: np.ndarray, sizes_px: np
     from the reference at its grid's scale by more than 3 x ``threshold``
     (no stroke of its grid would paint it) and the canvas still differs from
     the reference there by more than ``threshold`` (Euclidean RGB). Computed in
-    blocks of rows.
+    blocks of rows, side by side on the worker threads.
     """
     h, w = sizes_px.shape
     score = np.zeros((h, w), np.float32)
     halo = max(4, int(smallest)) + 1                             # rows of context for the ring and 3 x 3 tests
     step = max(1, BLOCK_PIXELS // max(w, 1))
-    for top in range(0, h, step):
+
+    def score_rows(top: int) -> None:
         bottom = min(h, top + step)
         lo, hi = max(0, top - halo), min(h, bottom + halo)
         lum = reference[lo:hi].mean(axis=2)
@@ -136,6 +138,8 @@ def detail_scores(reference: np.ndarray, canvas_colour: np.ndarray, sizes_px: np
                 faint = feature <= 3.0 * threshold
                 block[r[faint], c[faint]] = 0.0
         score[top:bottom] = block
+
+    run_all(score_rows, range(0, h, step))
     return score
 
 

@@ -111,7 +111,7 @@ def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: Brus
         part = subset(plan, slice(first, stop))
         footprints, mends = judged_footprints(part, size, tip, params, found, reference)
         keep = mends | (part["ratios"] == 0)
-        canvas.lay(footprints.of_strokes(keep), params.height_mode, params.height_build)
+        canvas.lay(footprints, params.height_mode, params.height_build, keep)
         kept.append(first + np.flatnonzero(keep))
     return np.concatenate(kept)
 
