@@ -13,7 +13,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..colour import luminance
-from ..workers import run_all
+from ..workers import run_all, worker_count
 
 CHUNK_PIXELS = 1 << 20
 """The bilateral grid is splatted and read back this many pixels at a time."""
@@ -28,47 +28,77 @@ def bilateral_filter(image: np.ndarray, sigma_spatial: float, sigma_range: float
     Computed on a bilateral grid (Paris and Durand 2006): values and weights
     are splatted into a grid sampled every sigma_spatial pixels and every
     sigma_range intensity units, blurred there by a unit Gaussian, and read
-    back by trilinear interpolation. Cost is linear in pixels.
+    back by trilinear interpolation. Cost is linear in pixels. Blocks of
+    rows of every channel are splatted (one per worker at a time) and read
+    back side by side on the worker threads; each channel's blocks are
+    summed in order.
     """
     img = np.asarray(image, dtype=np.float32)
     if img.ndim == 2:
-        return _bilateral_channel(img, sigma_spatial, sigma_range)
-    channels = run_all(lambda c: _bilateral_channel(img[..., c], sigma_spatial, sigma_range), range(img.shape[2]))
-    return np.stack(channels, axis=-1)
-
-
-def _bilateral_channel(values: np.ndarray, sigma_spatial: float, sigma_range: float) -> np.ndarray:
-    """Bilateral grid filter of one (H, W) channel in [0, 1]."""
-    h, w = values.shape
+        return bilateral_filter(img[..., None], sigma_spatial, sigma_range)[..., 0]
+    h, w, channels = img.shape
     if sigma_spatial < 0.5 or h * w == 0:
-        return values.copy()
-    step = max(1.0, float(sigma_spatial))
-    pad = 2
-    gh = int(math.ceil((h - 1) / step)) + 1 + 2 * pad
-    gw = int(math.ceil((w - 1) / step)) + 1 + 2 * pad
-    gr = int(math.ceil(1.0 / sigma_range)) + 1 + 2 * pad
-
-    ys = np.arange(h, dtype=np.float32) / step + pad
-    xs = np.arange(w, dtype=np.float32) / step + pad
-    ix = np.rint(xs).astype(np.int64)
-    size = gh * gw * gr
-    total = np.zeros(size)
-    count = np.zeros(size)
+        return img.copy()
+    grid = BilateralGrid(h, w, sigma_spatial, sigma_range)
     rows = max(1, CHUNK_PIXELS // w)               # row blocks keep the temporaries small on large images
-    for top in range(0, h, rows):
-        block = values[top:top + rows]
-        ir = np.rint(np.clip(block, 0.0, 1.0) / sigma_range + pad).astype(np.int64)
-        iy = np.rint(ys[top:top + rows]).astype(np.int64)
-        flat = ((iy[:, None] * gw + ix[None, :]) * gr + ir).ravel()
-        total += np.bincount(flat, weights=block.ravel().astype(np.float64), minlength=size)
-        count += np.bincount(flat, minlength=size)
-    grid = np.stack([total, count]).reshape(2, gh, gw, gr)
-    grid = ndimage.gaussian_filter(grid, sigma=(0, 1.0, 1.0, 1.0), mode="constant", truncate=3.0)
-    out = np.empty((h, w), np.float32)
-    for top in range(0, h, rows):
-        rs = np.clip(values[top:top + rows], 0.0, 1.0) / sigma_range + pad
-        out[top:top + rows] = _slice(grid, ys[top:top + rows], xs, rs)
+    tasks = [(c, top) for c in range(channels) for top in range(0, h, rows)]
+    sums = [grid.empty() for _ in range(channels)]
+    workers = worker_count()
+    for first in range(0, len(tasks), workers):    # a splat per worker at a time, each added in order
+        wave = tasks[first:first + workers]
+        for (c, _), (values, weights) in zip(wave, run_all(
+                lambda task: grid.splat(img[task[1]:task[1] + rows, :, task[0]], task[1]), wave), strict=True):
+            sums[c][0] += values
+            sums[c][1] += weights
+    blurred = run_all(grid.blur, sums)
+    out = np.empty_like(img)
+
+    def read(task: tuple) -> None:
+        c, top = task
+        out[top:top + rows, :, c] = grid.read(blurred[c], img[top:top + rows, :, c], top)
+
+    run_all(read, tasks)
     return out
+
+
+class BilateralGrid:
+    """The bilateral grid of an (H, W) channel for a filter of ``sigma_spatial`` px and ``sigma_range`` intensity
+    units: (gh, gw, gr) cells, max(1, sigma_spatial) px and sigma_range apart, PAD cells beyond each end."""
+
+    PAD = 2
+
+    def __init__(self, h: int, w: int, sigma_spatial: float, sigma_range: float):
+        step, pad = max(1.0, float(sigma_spatial)), self.PAD
+        self.sigma_range = sigma_range
+        self.gh = int(math.ceil((h - 1) / step)) + 1 + 2 * pad
+        self.gw = int(math.ceil((w - 1) / step)) + 1 + 2 * pad
+        self.gr = int(math.ceil(1.0 / sigma_range)) + 1 + 2 * pad
+        self.ys = np.arange(h, dtype=np.float32) / step + pad
+        self.xs = np.arange(w, dtype=np.float32) / step + pad
+        self.ix = np.rint(self.xs).astype(np.int64)
+
+    def splat(self, block: np.ndarray, top: int) -> tuple:
+        """(values, weights), float64 (gh gw gr,): rows ``top`` onwards of a channel, (R, W) in [0, 1], splatted."""
+        size = self.gh * self.gw * self.gr
+        ir = np.rint(np.clip(block, 0.0, 1.0) / self.sigma_range + self.PAD).astype(np.int64)
+        iy = np.rint(self.ys[top:top + len(block)]).astype(np.int64)
+        flat = ((iy[:, None] * self.gw + self.ix[None, :]) * self.gr + ir).ravel()
+        return (np.bincount(flat, weights=block.ravel().astype(np.float64), minlength=size),
+                np.bincount(flat, minlength=size))
+
+    def empty(self) -> np.ndarray:
+        """(2, gh gw gr) float64 zeros: a channel's (values, weights) sums."""
+        return np.zeros((2, self.gh * self.gw * self.gr))
+
+    def blur(self, sums: np.ndarray) -> np.ndarray:
+        """(2, gh, gw, gr) float64: a channel's splatted (values, weights) ``sums`` (``empty``'s shape), blurred."""
+        grid = sums.reshape(2, self.gh, self.gw, self.gr)
+        return ndimage.gaussian_filter(grid, sigma=(0, 1.0, 1.0, 1.0), mode="constant", truncate=3.0)
+
+    def read(self, grid: np.ndarray, block: np.ndarray, top: int) -> np.ndarray:
+        """(R, W) float32: the blurred ``grid`` read back at rows ``top`` onwards of a channel, ``block`` (R, W)."""
+        rs = np.clip(block, 0.0, 1.0) / self.sigma_range + self.PAD
+        return _slice(grid, self.ys[top:top + len(block)], self.xs, rs)
 
 
 def _slice(grid: np.ndarray, ys: np.ndarray, xs: np.ndarray, rs: np.ndarray) -> np.ndarray:

@@ -23,6 +23,8 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
 
+from ..workers import run_all
+
 _PI32 = np.float32(math.pi)
 _TINY = 1e-12
 _SMOOTHING = 1e-6
@@ -73,16 +75,13 @@ def gradient_normal(intensity: np.ndarray, sigma: float) -> Tuple[np.ndarray, np
                units as importance.sobel_energy).
     """
     i = np.asarray(intensity, dtype=np.float32)
-    gx = ndimage.sobel(i, axis=1, mode="nearest") / np.float32(8.0)
-    gy = ndimage.sobel(i, axis=0, mode="nearest") / np.float32(8.0)
-    jxx = gx * gx
-    jxy = gx * gy
-    jyy = gy * gy
+    gx, gy = run_all(lambda axis: ndimage.sobel(i, axis=axis, mode="nearest") / np.float32(8.0), (1, 0))
+    tensor = (gx * gx, gx * gy, gy * gy)
     del gx, gy
     if sigma > 0:
-        jxx = ndimage.gaussian_filter(jxx, sigma, mode="nearest", truncate=3.0)
-        jxy = ndimage.gaussian_filter(jxy, sigma, mode="nearest", truncate=3.0)
-        jyy = ndimage.gaussian_filter(jyy, sigma, mode="nearest", truncate=3.0)
+        tensor = run_all(lambda j: ndimage.gaussian_filter(j, sigma, mode="nearest", truncate=3.0), tensor)
+    jxx, jxy, jyy = tensor
+    del tensor
     diff = jxx - jyy
     trace = jxx + jyy
     root = np.sqrt(np.maximum(0.25 * diff * diff + jxy * jxy, 0.0))
