@@ -76,6 +76,19 @@ def block_mean(image: np.ndarray, factor: int) -> np.ndarray:
     return blocks.mean(axis=(1, 3), dtype=np.float32)
 
 
+def block_factor(sigma: float) -> int:
+    """The block size (px) ``smooth`` works on for a blur of ``sigma`` px: 1 (full resolution) up to
+    FULL_RESOLUTION_SIGMA, floor(sigma / FULL_RESOLUTION_SIGMA) above."""
+    return 1 if sigma <= FULL_RESOLUTION_SIGMA else max(1, int(sigma // FULL_RESOLUTION_SIGMA))
+
+
+def smoothing_cost(sigma: float) -> float:
+    """About how long ``smooth`` takes at ``sigma`` px, relative to one pass over the image: the separable
+    Gaussian's taps on the blocks, plus the block means."""
+    factor = block_factor(sigma)
+    return (1.0 + 2.0 * sigma / factor) / (factor * factor) + (1.0 if factor > 1 else 0.0)
+
+
 def smooth(image: np.ndarray, sigma: float) -> SmoothedImage:
     """The (H, W, C) float32 ``image`` blurred by a Gaussian of ``sigma`` px (edges reflected).
 
@@ -87,7 +100,7 @@ def smooth(image: np.ndarray, sigma: float) -> SmoothedImage:
     image = np.asarray(image, np.float32)
     if sigma <= 0:
         return SmoothedImage(image, 1, 0.0)
-    factor = 1 if sigma <= FULL_RESOLUTION_SIGMA else max(1, int(sigma // FULL_RESOLUTION_SIGMA))
+    factor = block_factor(sigma)
     if factor == 1:
         pixels = ndimage.gaussian_filter(image, sigma=(sigma, sigma, 0), mode="reflect")
         return SmoothedImage(pixels.astype(np.float32), 1, float(sigma))

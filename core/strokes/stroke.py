@@ -12,7 +12,7 @@ from ..params import Params
 from ..workers import run_all
 from .brush import BrushTip
 from .canvas import Canvas
-from .smoothing import SmoothedImage, smooth
+from .smoothing import SmoothedImage, smooth, smoothing_cost
 
 # A stroke covers as a brush at least this many rows long would: a short tip (small brushes have one or
 # two rows) is counted as passing that many times, so small strokes are as opaque as large ones.
@@ -65,10 +65,10 @@ class ColourSources:
 
 def colour_sources(reference: np.ndarray, sizes: Iterable[int], params: Params) -> Dict[int, ColourSources]:
     """{width: ColourSources} for each brush width (px): sigmas edge_smoothing, anchor_smoothing and
-    bristle_smoothing x width (equal sigmas share one smoothed image)."""
+    bristle_smoothing x width (equal sigmas share one smoothed image), the costliest first on the worker threads."""
     sigmas = {int(s): (params.edge_smoothing * s, params.anchor_smoothing * s, params.bristle_smoothing * s)
               for s in sizes}
-    distinct = sorted({sigma for three in sigmas.values() for sigma in three}, reverse=True)
+    distinct = sorted({sigma for three in sigmas.values() for sigma in three}, key=smoothing_cost, reverse=True)
     levels = dict(zip(distinct, run_all(lambda sigma: smooth(reference, sigma), distinct), strict=True))
     return {s: ColourSources(reference, *(levels[sigma] for sigma in three)) for s, three in sigmas.items()}
 
