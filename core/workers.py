@@ -57,3 +57,14 @@ def run_all(work: Callable, items: Sequence) -> list:
         if _pool is None:
             _pool = ThreadPoolExecutor(worker_count(), thread_name_prefix="paint-relief")
     return list(_pool.map(work, items))
+
+
+BLOCK_PIXELS = 1 << 20
+"""Pixels in one block of rows of per-pixel work spread over the worker threads (``in_row_blocks``)."""
+
+
+def in_row_blocks(work: Callable, height: int, width: int) -> None:
+    """work(rows) for slices ``rows`` of whole rows covering an image of ``height`` x ``width`` pixels,
+    about BLOCK_PIXELS each, on the worker threads (for per-pixel work writing its rows of an output)."""
+    step = max(1, BLOCK_PIXELS // max(width, 1))
+    run_all(work, [slice(top, min(height, top + step)) for top in range(0, height, step)])

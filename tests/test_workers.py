@@ -85,3 +85,36 @@ def test_row_bands_split_the_entries_by_whole_rows_in_order():
     some = canvas.row_bands(pixel, (20, 30), 3, least=50, laid=laid)
     np.testing.assert_array_equal(np.sort(np.concatenate(some)), np.flatnonzero(laid))  # only the laid entries
     np.testing.assert_array_equal(canvas.row_bands(pixel, (20, 30), 3, least=400, laid=laid)[0], np.flatnonzero(laid))
+
+
+def test_row_blocks_cover_every_row_once_in_blocks_of_about_the_block_pixels(monkeypatch):
+    monkeypatch.setattr(workers, "BLOCK_PIXELS", 70)
+    seen = []
+    workers.in_row_blocks(seen.append, 23, 10)
+    rows = sorted((s.start, s.stop) for s in seen)
+    assert rows[0][0] == 0 and rows[-1][1] == 23 and all(rows[i][1] == rows[i + 1][0] for i in range(len(rows) - 1))
+    assert all(stop - start == 7 for start, stop in rows[:-1])                          # 70 px of 10-px rows
+    seen.clear()
+    workers.in_row_blocks(seen.append, 5, 1000)                                          # a row wider than a block
+    assert sorted(s.start for s in seen) == [0, 1, 2, 3, 4]
+
+
+def test_analysis_in_blocks_of_rows_gives_the_same_bytes_as_in_one_block(monkeypatch):
+    from core.analysis import importance, orientation
+
+    image = photo(5, 61, 53, "blobs")
+    lum = image.mean(axis=2)
+    energy = np.random.default_rng(5).random(lum.shape, dtype=np.float32)
+    params = Params(rbf_grid_step=4)
+
+    def analysed():
+        return (importance.bilateral_filter(image, 3.0, 0.1),
+                orientation.orientation_field(lum, energy, params, scale=0.06))
+
+    whole = analysed()
+    monkeypatch.setattr(workers, "BLOCK_PIXELS", 200)                                   # 3 rows a block
+    monkeypatch.setattr(importance, "CHUNK_PIXELS", 150)                                # 2 rows a splat
+    monkeypatch.setattr(importance, "worker_count", lambda: 3)
+    cut = analysed()
+    for one, many in zip(whole, cut, strict=True):
+        assert one.dtype == np.float32 and one.tobytes() == many.tobytes()

@@ -23,7 +23,7 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
 
-from ..workers import run_all
+from ..workers import in_row_blocks, run_all
 
 _PI32 = np.float32(math.pi)
 _TINY = 1e-12
@@ -81,15 +81,18 @@ def gradient_normal(intensity: np.ndarray, sigma: float) -> Tuple[np.ndarray, np
     if sigma > 0:
         tensor = run_all(lambda j: ndimage.gaussian_filter(j, sigma, mode="nearest", truncate=3.0), tensor)
     jxx, jxy, jyy = tensor
-    del tensor
-    diff = jxx - jyy
-    trace = jxx + jyy
-    root = np.sqrt(np.maximum(0.25 * diff * diff + jxy * jxy, 0.0))
-    strength = np.sqrt(np.maximum(0.5 * trace + root, 0.0)).astype(np.float32)
-    flat = trace <= _TINY
-    # tangent = gradient direction + π/2, i.e. doubled angle + π: negate the doubled vector.
-    theta = _half_angle(-diff, -2.0 * jxy)
-    theta[flat] = 0.0
+    theta, strength = np.empty(i.shape, np.float32), np.empty(i.shape, np.float32)
+
+    def direction(rows: slice) -> None:
+        diff = jxx[rows] - jyy[rows]
+        trace = jxx[rows] + jyy[rows]
+        root = np.sqrt(np.maximum(0.25 * diff * diff + jxy[rows] * jxy[rows], 0.0))
+        strength[rows] = np.sqrt(np.maximum(0.5 * trace + root, 0.0))
+        # tangent = gradient direction + π/2, i.e. doubled angle + π: negate the doubled vector.
+        theta[rows] = _half_angle(-diff, -2.0 * jxy[rows])
+        theta[rows][trace <= _TINY] = 0.0
+
+    in_row_blocks(direction, *i.shape)
     return theta, strength
 
 
@@ -337,12 +340,18 @@ def rbf_orientation(theta_gn: np.ndarray, ys: np.ndarray, xs: np.ndarray, shape:
     spacing = max(float(step), math.sqrt(h * w / n)) / unit
     coarse = local_rbf_grid(points, values, py / unit, px / unit, neighbors, spacing, _SMOOTHING)
     coarse = coarse.astype(np.float32)
-    rows = _upsample_axis(coarse, py, h, axis=0)
-    full = _upsample_axis(rows, px, w, axis=1)
-    c, s = full[..., 0], full[..., 1]
-    theta = _half_angle(c, s)
-    # Where the interpolated vector vanishes the angle is meaningless: use the keys' axial mean.
-    theta[(c * c + s * s) < 1e-12] = _dominant(key_theta)
+    along = _upsample_axis(coarse, py, h, axis=0)
+    dominant = _dominant(key_theta)
+    theta = np.empty((h, w), np.float32)
+
+    def halved(rows: slice) -> None:
+        full = _upsample_axis(along[rows], px, w, axis=1)
+        c, s = full[..., 0], full[..., 1]
+        theta[rows] = _half_angle(c, s)
+        # Where the interpolated vector vanishes the angle is meaningless: use the keys' axial mean.
+        theta[rows][(c * c + s * s) < 1e-12] = dominant
+
+    in_row_blocks(halved, h, w)
     return theta
 
 
@@ -354,15 +363,24 @@ def blend_orientations(theta_gn: np.ndarray, theta_rbf: np.ndarray, energy: np.n
     halved; where the sum is ~0 (opposite directions, equal weights) O_GN is
     taken. Returns float32 (H, W) in [0, π).
     """
-    e = np.clip(np.asarray(energy, dtype=np.float32), 0.0, 1.0)
-    g2 = 2.0 * np.asarray(theta_gn, dtype=np.float32)
-    r2 = 2.0 * np.asarray(theta_rbf, dtype=np.float32)
-    c = e * np.cos(g2) + (1.0 - e) * np.cos(r2)
-    s = e * np.sin(g2) + (1.0 - e) * np.sin(r2)
-    theta = _half_angle(c, s)
-    degenerate = (c * c + s * s) < 1e-8
-    if degenerate.any():
-        theta[degenerate] = _wrap_axial(np.broadcast_to(theta_gn, theta.shape)[degenerate])
+    energy = np.asarray(energy, dtype=np.float32)
+    h, w = energy.shape
+    theta_gn = np.broadcast_to(theta_gn, (h, w))
+    theta_rbf = np.broadcast_to(np.asarray(theta_rbf, dtype=np.float32), (h, w))
+    theta = np.empty((h, w), np.float32)
+
+    def blended(rows: slice) -> None:
+        e = np.clip(energy[rows], 0.0, 1.0)
+        g2 = 2.0 * np.asarray(theta_gn[rows], dtype=np.float32)
+        r2 = 2.0 * theta_rbf[rows]
+        c = e * np.cos(g2) + (1.0 - e) * np.cos(r2)
+        s = e * np.sin(g2) + (1.0 - e) * np.sin(r2)
+        theta[rows] = _half_angle(c, s)
+        degenerate = (c * c + s * s) < 1e-8
+        if degenerate.any():
+            theta[rows][degenerate] = _wrap_axial(theta_gn[rows][degenerate])
+
+    in_row_blocks(blended, h, w)
     return theta
 
 
