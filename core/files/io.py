@@ -224,7 +224,7 @@ def _read_first_image(path: pathlib.Path, inp, spec, role: str = "input") -> np.
     if pixels.shape != (spec.height, spec.width, spec.nchannels):
         raise InputError(f"Cannot read the {_noun(role)} {path}: the pixel data has the wrong size {pixels.shape}.")
     if native is not None:
-        return pixels.astype(np.float32) / np.float32(np.iinfo(native).max)
+        return np.divide(pixels, np.float32(np.iinfo(native).max), dtype=np.float32)
     return pixels.astype(np.float32, copy=False)
 
 
@@ -245,10 +245,13 @@ def _unpremultiply(data: np.ndarray) -> np.ndarray:
 
 
 def _to_srgb(colour: np.ndarray, linear: bool) -> np.ndarray:
-    """Colour values -> sRGB-encoded [0, 1]: linear data goes through the sRGB curve, other data is clipped."""
+    """Colour values -> sRGB-encoded [0, 1]: linear data goes through the sRGB curve, other data is clipped
+    (float32 ``colour``, which the caller owns, in place)."""
     if linear:
         return linear_to_srgb(colour)
-    return np.clip(colour, 0.0, 1.0).astype(np.float32)
+    if colour.dtype != np.float32:
+        return np.clip(colour, 0.0, 1.0).astype(np.float32)
+    return np.clip(colour, 0.0, 1.0, out=colour)
 
 
 def probe(path: PathLike, max_megapixels: float = float("inf"), role: str = "input") -> Tuple[int, int, int]:
