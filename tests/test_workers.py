@@ -51,7 +51,8 @@ def painted_by(monkeypatch, count: int):
     pieces, bands = [], []
     split = workers.balanced_runs
     monkeypatch.setattr(rounds, "balanced_runs", lambda *args: pieces.append(split(*args)) or pieces[-1])
-    monkeypatch.setattr(canvas, "balanced_runs", lambda *args: bands.append(split(*args)) or bands[-1])
+    cut = canvas.row_bands
+    monkeypatch.setattr(canvas, "row_bands", lambda *args: bands.append(cut(*args)) or bands[-1])
     for module in (rounds, layout, canvas):
         monkeypatch.setattr(module, "worker_count", lambda: count)
     monkeypatch.setattr(canvas, "LAY_LEAST_ENTRIES", 1)
@@ -70,22 +71,27 @@ def test_the_painting_does_not_depend_on_how_many_workers_share_it(monkeypatch, 
     same_painting(alone, shared)
 
 
-def test_row_bands_split_the_entries_by_whole_rows_in_order():
+def test_row_bands_cut_the_rows_into_runs_of_about_equal_entries_and_pick_each_bands_entries_in_order():
     rng = np.random.default_rng(4)
-    pixel = np.concatenate([rng.integers(0, 600, 300), rng.integers(0, 600, 300)])     # two strokes' worth, 20 x 30
-    bands = canvas.row_bands(pixel, (20, 30), 3, least=50)
-    assert len(bands) == 3
-    np.testing.assert_array_equal(np.sort(np.concatenate(bands)), np.arange(600))      # every entry once
-    rows = [set((pixel[b] // 30).tolist()) for b in bands]
-    assert all(max(rows[k]) < min(rows[k + 1]) for k in range(2))                       # bands of whole rows
-    assert all((np.diff(b) > 0).all() for b in bands)                                    # each in the run's order
-    assert max(len(b) for b in bands) - min(len(b) for b in bands) <= 2 * 30 * 2      # about equal shares
-    assert canvas.row_bands(pixel, (20, 30), 3, least=400) is None                       # one band: every entry
-    laid = rng.uniform(size=600) < 0.5
-    some = canvas.row_bands(pixel, (20, 30), 3, least=50, laid=laid)
-    np.testing.assert_array_equal(np.sort(np.concatenate(some)), np.flatnonzero(laid))  # only the laid entries
-    np.testing.assert_array_equal(canvas.row_bands(pixel, (20, 30), 3, least=400, laid=laid)[0], np.flatnonzero(laid))
-
+    first, second = rng.integers(0, 600, 300), rng.integers(0, 600, 300)                # two pieces' worth, 20 x 30
+    values = [(pixel, pixel * 0.5) for pixel in (first, second)]
+    bands = canvas.row_bands([first, second], [None, None], (20, 30), 3, least=50)
+    assert len(bands) == 3 and bands[0][0] == 0 and bands[-1][1] == 20                 # runs of whole rows
+    assert all(bands[k][1] == bands[k + 1][0] for k in range(2))
+    picked = [canvas.band_entries(list(zip(values, [None, None], strict=True)), rows, (20, 30)) for rows in bands]
+    joined = np.concatenate([first, second])
+    assert sorted(np.concatenate([pixel for pixel, _ in picked]).tolist()) == sorted(joined.tolist())  # every entry once
+    for (top, stop), (pixel, half) in zip(bands, picked, strict=True):
+        inside = joined[(joined >= top * 30) & (joined < stop * 30)]
+        np.testing.assert_array_equal(pixel, inside)                                     # in the run's order
+        np.testing.assert_array_equal(half, pixel * 0.5)                                 # values follow their entry
+        assert abs(len(pixel) - 200) <= 2 * 30 * 2 + 40                                   # about equal shares
+    assert canvas.row_bands([first, second], [None, None], (20, 30), 3, least=400) == [(0, 20)]
+    laid = [rng.uniform(size=300) < 0.5, None]
+    for rows in canvas.row_bands([first, second], laid, (20, 30), 3, least=50) + [(0, 20)]:
+        pixel, _ = canvas.band_entries(list(zip(values, laid, strict=True)), rows, (20, 30))
+        wanted = np.concatenate([first[laid[0]], second])
+        np.testing.assert_array_equal(pixel, wanted[(wanted >= rows[0] * 30) & (wanted < rows[1] * 30)])
 
 def test_row_blocks_cover_every_row_once_in_blocks_of_about_the_block_pixels(monkeypatch):
     monkeypatch.setattr(workers, "BLOCK_PIXELS", 70)

@@ -37,31 +37,37 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def lay(self, footprints: Footprints, height_mode: str, build: float, keep: np.ndarray = None) -> None:
+    def lay(self, footprints, height_mode: str, build: float, keep: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
+        footprints: the run's Footprints, or a list of the Footprints of its
+        consecutive pieces (laid as one run, without joining them first).
+        keep: optional (N,) bool over the run's N strokes, lay only those
+        where it is True (as if the others were not in the run).
         The k-th stroke to touch a pixel in the run is laid on it in the k-th
         pass, every pixel of a pass at once: each pixel sees its strokes in
         the run's order, so the canvas is exactly what laying the strokes one
         by one gives (``lay_one``). The arithmetic is ``composite``'s. Bands of
         rows holding about equal shares of the entries are laid side by side
-        on the worker threads (a pixel's strokes all lie in its band).
-        keep: optional (N,) bool, lay only the strokes where it is True (as
-        if the others were not in the run).
+        on the worker threads (a pixel's strokes all lie in its band), each
+        band picking its own entries out of the pieces.
         """
-        counts = np.diff(footprints.starts)
-        laid = None if keep is None or keep.all() else np.repeat(np.asarray(keep, bool), counts)
-        if footprints.pixel.size == 0 or (laid is not None and not laid.any()):
+        pieces, first = [], 0
+        for part in [footprints] if isinstance(footprints, Footprints) else footprints:
+            counts = np.diff(part.starts)
+            kept = None if keep is None else np.asarray(keep[first:first + len(counts)], bool)
+            first += len(counts)
+            if part.pixel.size == 0 or (kept is not None and not kept.any()):
+                continue
+            laid = None if kept is None or kept.all() else np.repeat(kept, counts)
+            pieces.append(((part.pixel, part.transmittance, part.paint, part.deposit, part.height,
+                            np.repeat(inverse_full(part.full), counts)), laid))
+        if not pieces:
             return
-        inverse = np.take(inverse_full(footprints.full), np.repeat(np.arange(len(counts)), counts))
-        entries = (footprints.pixel, footprints.transmittance, footprints.paint, footprints.deposit,
-                   footprints.height, inverse)
-        bands = row_bands(footprints.pixel, self.height.shape, worker_count(), LAY_LEAST_ENTRIES, laid)
-        if bands is None:
-            self._lay_entries(*entries, height_mode, build)
-            return
-        run_all(lambda band: self._lay_entries(*(np.take(values, band, axis=0) for values in entries),
-                                               height_mode, build), bands)
+        bands = row_bands([entries[0] for entries, _ in pieces], [laid for _, laid in pieces], self.height.shape,
+                          worker_count(), LAY_LEAST_ENTRIES)
+        run_all(lambda rows: self._lay_entries(*band_entries(pieces, rows, self.height.shape), height_mode, build),
+                bands)
 
     def _lay_entries(self, pixel: np.ndarray, transmittance: np.ndarray, paint: np.ndarray, deposit: np.ndarray,
                      raised: np.ndarray, inverse: np.ndarray, height_mode: str, build: float) -> None:
@@ -125,19 +131,46 @@ class Canvas:
             stroke_height, inverse, height_mode, build)
 
 
-def row_bands(pixel: np.ndarray, shape: tuple, parts: int, least: int, laid: np.ndarray = None) -> list:
-    """[(K,) int64 ascending indices into ``pixel``, ...]: the entries of E flat pixel indices on an (H, W)
-    canvas cut into at most ``parts`` bands of whole rows holding about equal shares (at least ``least``
-    entries each; one band when there are fewer than 2 ``least``). laid: optional (E,) bool, only these
-    entries are shared out. None when the one band is every entry."""
-    rows = pixel // shape[1]
-    runs = balanced_runs(np.bincount(rows if laid is None else rows[laid], minlength=shape[0]), parts, least)
-    if len(runs) == 1:
-        return None if laid is None else [np.flatnonzero(laid)]
-    band = np.searchsorted(np.array([first for first, _ in runs[1:]]), rows, side="right")
-    if laid is not None:
-        band[~laid] = len(runs)
-    return [np.flatnonzero(band == k) for k in range(len(runs))]
+BAND_SAMPLE = 8
+"""Bands are balanced on the rows of every BAND_SAMPLE-th entry (where the cuts fall changes no byte)."""
+
+
+def row_bands(pixels: list, laid: list, shape: tuple, parts: int, least: int) -> list:
+    """[(first, stop), ...] runs of whole rows of an (H, W) canvas, at most ``parts`` of them, holding about equal
+    shares of the entries of pieces of a run: ``pixels`` [(E_i,) flat pixel indices, ...] and ``laid``
+    [(E_i,) bool or None (every entry), ...] the entries laid. At least ``least`` entries each; one run of
+    every row when there are fewer than 2 ``least``."""
+    h, w = shape
+    total = sum(len(pixel) if selected is None else int(np.count_nonzero(selected))
+                for pixel, selected in zip(pixels, laid, strict=True))
+    if parts <= 1 or total < 2 * least:
+        return [(0, h)]
+    rows = np.zeros(h, np.int64)
+    for pixel, selected in zip(pixels, laid, strict=True):
+        sample = pixel[::BAND_SAMPLE] if selected is None else pixel[::BAND_SAMPLE][selected[::BAND_SAMPLE]]
+        rows += np.bincount(sample // w, minlength=h)
+    return balanced_runs(rows * BAND_SAMPLE, parts, least)
+
+
+def band_entries(pieces: list, rows: tuple, shape: tuple) -> tuple:
+    """The entries of ``pieces`` [((pixel, value arrays ...), laid (E,) bool or None), ...] laid on rows
+    [first, stop) of an (H, W) canvas, joined piece after piece: (pixel, value arrays ...)."""
+    first, stop = rows
+    whole = first == 0 and stop == shape[0]
+    parts = []
+    for entries, laid in pieces:
+        pixel = entries[0]
+        inside = laid if whole else (pixel >= first * shape[1]) & (pixel < stop * shape[1])
+        if laid is not None and not whole:
+            inside &= laid
+        if inside is None:
+            parts.append(entries)
+            continue
+        picked = np.flatnonzero(inside)
+        parts.append(tuple(np.take(values, picked, axis=0) for values in entries))
+    if len(parts) == 1:
+        return parts[0]
+    return tuple(np.concatenate(arrays) for arrays in zip(*parts, strict=True))
 
 
 def _rows(values: np.ndarray) -> np.ndarray:

@@ -223,29 +223,36 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
             solid_stroke(canvas, line, 0.5 * size, plan["anchor_colours"][i], 1.0, params.height_mode,
                          params.height_build)
         return
-    footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
     if one_by_one:
+        footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
         for i in range(len(footprints.starts) - 1):
             canvas.lay_one(footprints, i, params.height_mode, params.height_build)
     else:
-        canvas.lay(footprints, params.height_mode, params.height_build)
+        canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
+                   params.height_build)
+
+
+def footprint_runs(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> List[Footprints]:
+    """The ``Footprints`` of consecutive runs of a plan's strokes on a canvas of ``shape`` (H, W), made on the
+    worker threads."""
+    return in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape))
 
 
 def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), runs of them on the worker threads."""
-    return Footprints.joined(in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape)))
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W)."""
+    return Footprints.joined(footprint_runs(plan, size, tip, params, shape))
 
 
 def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
                       reference: np.ndarray) -> tuple:
-    """(``footprints_of`` a plan's N strokes, (N,) bool whether each ``improves`` the canvas ``colour`` (H, W, 3)
-    by its ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
+    """(``footprint_runs`` of a plan's N strokes, (N,) bool whether each ``improves`` the canvas ``colour``
+    (H, W, 3) by its ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
     def made_and_judged(part: dict) -> tuple:
         footprints = strokes_footprints(part, size, tip, params, colour.shape[:2])
         return footprints, improves(colour, footprints, reference, part["ratios"])
 
     parts = in_runs(plan, size, tip, made_and_judged)
-    return Footprints.joined([part[0] for part in parts]), np.concatenate([part[1] for part in parts])
+    return [part[0] for part in parts], np.concatenate([part[1] for part in parts])
 
 
 def in_runs(plan: dict, size: int, tip: BrushTip, work) -> list:
