@@ -209,6 +209,26 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     assert improves(canvas.colour, footprints, line, 0.5 * mended / spoiled).tolist() == [True]
 
 
+
+def test_improves_judges_some_of_the_strokes_as_it_judges_each_alone():
+    from stamp_oracle import box_footprint
+
+    from core.strokes.compositing import Footprints
+    from core.strokes.rounds import improves
+
+    rng = np.random.default_rng(7)
+    colour, reference = rng.random((8, 8, 3), dtype=np.float32), rng.random((8, 8, 3), dtype=np.float32)
+    strokes = [box_footprint(int(rng.integers(0, 5)), int(rng.integers(0, 5)), rng.uniform(0.2, 1, (3, 3)),
+                             rng.uniform(0, 0.6, (3, 3, 3)), np.ones((3, 3)), np.ones((3, 3)), 8) for _ in range(5)]
+    run = Footprints(np.arange(0, 46, 9), *(np.concatenate([getattr(f, k) for f in strokes])
+                                           for k in ("pixel", "transmittance", "paint", "deposit", "height", "full")))
+    alone = [bool(improves(colour, f, reference, 1.0)[0]) for f in strokes]
+    assert 0 < sum(alone) < 5                                                   # some mend, some do not
+    judged = np.array([True, False, True, True, False])
+    some = improves(colour, run, reference, np.ones(3), judged)
+    assert some.tolist() == [a for a, j in zip(alone, judged, strict=True) if j]
+    assert improves(colour, run, reference, 1.0).tolist() == alone
+
 def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it_mends():
     from core.methods.huang11 import mend_ratios
     from core.strokes.brush import brush_tip, load_brush

@@ -116,15 +116,24 @@ def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: Brus
     return np.concatenate(kept)
 
 
-def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, ratio) -> np.ndarray:
+def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, ratio,
+             strokes: np.ndarray = None) -> np.ndarray:
     """(N,) bool: whether each of N strokes' ``footprints``, laid alone on a canvas of ``colour`` (H, W, 3), mends more
     than ``ratio`` (a number, or (N,) one per stroke) times the error it spoils. With e and e' a pixel's
     squared Euclidean RGB distance from ``reference`` (H, W, 3) before and after the stroke (Eq. 4), the
-    stroke mends sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels."""
+    stroke mends sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels. strokes: optional (M,)
+    bool over the footprints' M strokes, judge only those (N of them, in order)."""
     pixel, starts = footprints.pixel, footprints.starts
+    transmittance, paint = footprints.transmittance, footprints.paint
+    if strokes is not None:
+        counts = np.diff(starts)[strokes]
+        entries = np.repeat(strokes, np.diff(starts))
+        pixel, transmittance, paint = pixel[entries], transmittance[entries], paint[entries]
+        starts = np.zeros(len(counts) + 1, np.int64)
+        np.cumsum(counts, out=starts[1:])
     before = np.take(colour.reshape(-1, 3), pixel, axis=0)
     target = np.take(reference.reshape(-1, 3), pixel, axis=0)
-    after = before * footprints.transmittance[:, None] + footprints.paint
+    after = before * transmittance[:, None] + paint
     after -= target
     before -= target
     change = (np.einsum("ij,ij->i", after, after, dtype=np.float64)
@@ -249,7 +258,12 @@ def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, colo
     (H, W, 3) by its ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
     def made_and_judged(part: dict) -> tuple:
         footprints = strokes_footprints(part, size, tip, params, colour.shape[:2])
-        return footprints, improves(colour, footprints, reference, part["ratios"])
+        judged = part["ratios"] > 0                                      # 0: laid unjudged
+        mends = np.zeros(len(judged), bool)
+        if judged.any():
+            mends[judged] = improves(colour, footprints, reference, part["ratios"][judged],
+                                     None if judged.all() else judged)
+        return footprints, mends
 
     parts = in_runs(plan, size, tip, made_and_judged)
     return [part[0] for part in parts], np.concatenate([part[1] for part in parts])
