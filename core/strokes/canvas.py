@@ -37,7 +37,7 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def lay(self, footprints, height_mode: str, build: float, keep: np.ndarray = None) -> None:
+    def lay(self, footprints: Footprints | list, height_mode: str, build: float, keep: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
         footprints: the run's Footprints, or a list of the Footprints of its

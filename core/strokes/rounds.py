@@ -126,11 +126,11 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
     pixel, starts = footprints.pixel, footprints.starts
     transmittance, paint = footprints.transmittance, footprints.paint
     if strokes is not None:
-        counts = np.diff(starts)[strokes]
-        entries = np.repeat(strokes, np.diff(starts))
+        counts = np.diff(starts)
+        entries = np.repeat(strokes, counts)
         pixel, transmittance, paint = pixel[entries], transmittance[entries], paint[entries]
-        starts = np.zeros(len(counts) + 1, np.int64)
-        np.cumsum(counts, out=starts[1:])
+        starts = np.zeros(int(np.count_nonzero(strokes)) + 1, np.int64)
+        np.cumsum(counts[strokes], out=starts[1:])
     before = np.take(colour.reshape(-1, 3), pixel, axis=0)
     target = np.take(reference.reshape(-1, 3), pixel, axis=0)
     after = before * transmittance[:, None] + paint
