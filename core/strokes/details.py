@@ -19,7 +19,7 @@ from typing import Dict
 import numpy as np
 from scipy import ndimage
 
-from ..workers import run_all
+from ..workers import in_row_blocks
 from .smoothing import SmoothedImage
 
 
@@ -92,10 +92,6 @@ def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.nd
     return found
 
 
-BLOCK_PIXELS = 1 << 20
-"""Candidates are scored this many pixels at a time, so the pass holds no full-size colour temporaries."""
-
-
 def detail_scores(reference: np.ndarray, canvas_colour: np.ndarray, sizes_px: np.ndarray,
                   smoothed: Dict[int, SmoothedImage], smallest: int, threshold: float) -> np.ndarray:
     """(H, W) float32: how far the canvas misses each candidate pixel of the detail pass (0 elsewhere).
@@ -108,15 +104,15 @@ def detail_scores(reference: np.ndarray, canvas_colour: np.ndarray, sizes_px: np
     from the reference at its grid's scale by more than 3 x ``threshold``
     (no stroke of its grid would paint it) and the canvas still differs from
     the reference there by more than ``threshold`` (Euclidean RGB). Computed in
-    blocks of rows, side by side on the worker threads.
+    blocks of rows (``in_row_blocks``, so the pass holds no full-size colour
+    temporaries), side by side on the worker threads.
     """
     h, w = sizes_px.shape
     score = np.zeros((h, w), np.float32)
     halo = max(4, int(smallest)) + 1                             # rows of context for the ring and 3 x 3 tests
-    step = max(1, BLOCK_PIXELS // max(w, 1))
 
-    def score_rows(top: int) -> None:
-        bottom = min(h, top + step)
+    def score_rows(band: slice) -> None:
+        top, bottom = band.start, band.stop
         lo, hi = max(0, top - halo), min(h, bottom + halo)
         lum = reference[lo:hi].mean(axis=2)
         diff = reference[top:bottom] - canvas_colour[top:bottom]
@@ -139,7 +135,7 @@ def detail_scores(reference: np.ndarray, canvas_colour: np.ndarray, sizes_px: np
                 block[r[faint], c[faint]] = 0.0
         score[top:bottom] = block
 
-    run_all(score_rows, range(0, h, step))
+    in_row_blocks(score_rows, h, w)
     return score
 
 
