@@ -87,9 +87,9 @@ class Canvas:
         at_all = np.take(pixel, order)
         keep, deposit = np.take(transmittance, order), np.take(deposit, order)
         raised = np.take(raised, order)
-        paint = np.take(_rows(paint), order).view(np.float32).reshape(-1, 3)
+        paint = np.take(pixel_rows(paint), order).view(np.float32).reshape(-1, 3)
         inverse = np.take(inverse, order)
-        colour, coverage = _rows(self.colour.reshape(-1, 3)), self.coverage.ravel()
+        colour, coverage = pixel_rows(self.colour.reshape(-1, 3)), self.coverage.ravel()
         height, opacity = self.height.ravel(), self.opacity.ravel()
         done = 0
         for size in passes.tolist():
@@ -100,7 +100,7 @@ class Canvas:
                 np.take(colour, at).view(np.float32).reshape(-1, 3), np.take(coverage, at), np.take(height, at),
                 np.take(opacity, at), keep[part],
                 paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
-            colour[at] = _rows(new_colour)
+            colour[at] = pixel_rows(new_colour)
 
     def lay_one(self, footprints: Footprints, stroke: int, height_mode: str, build: float) -> None:
         """Lay stroke ``stroke`` of ``footprints`` alone, on the whole box around the pixels it touches.
@@ -173,7 +173,7 @@ def band_entries(pieces: list, rows: tuple, shape: tuple) -> tuple:
     return tuple(np.concatenate(arrays) for arrays in zip(*parts, strict=True))
 
 
-def _rows(values: np.ndarray) -> np.ndarray:
+def pixel_rows(values: np.ndarray) -> np.ndarray:
     """(N,) void view of a C-contiguous (N, 3) float32 array, one item per row (rows gather and scatter as items)."""
     return np.ascontiguousarray(values, np.float32).view(np.dtype((np.void, 12))).ravel()
 

@@ -76,6 +76,9 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     of the whole array: each value's float32 bits (which order non-negative
     floats, +0.0 lowest with bits 0) below its run's index, as the two halves
     of one 64-bit key; a run's zeros are its keys equal to its index << 32.
+    The keys come grouped by run, so the merge sort that finds runs in them
+    ("stable"; equal keys are equal values, so any sort gives the same
+    result) orders them faster than a quicksort.
     """
     n = len(starts) - 1
     out = np.zeros(n, np.float32)
@@ -89,7 +92,7 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     low = 0 if sys.byteorder == "little" else 1
     halves[:, low] = deposit.view(np.uint32)
     halves[:, 1 - low] = np.repeat(np.arange(n, dtype=np.uint32), counts)
-    keys.sort()
+    keys.sort(kind="stable")
     ordered = keys.view(np.uint32).reshape(-1, 2)[:, low].view(np.float32)
     positive = starts[1:] - np.searchsorted(keys, (np.arange(n, dtype=np.uint64) << np.uint64(32)) + np.uint64(1))
     has = positive > 0
