@@ -114,9 +114,11 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
 
 
 def test_full_deposits_are_the_90th_percentile_of_each_strokes_positive_deposits():
+    # runs of many lengths, so that rows of several widths are sorted from several ranks; some all zero
     rng = np.random.default_rng(4)
-    counts = [0, 1, 2, 7, 50, 3]
+    counts = [0, 1, 2, 7, 50, 3, 64, 65, 1000, 257, 5, 64]
     runs = [np.where(rng.uniform(size=c) < 0.2, 0.0, rng.uniform(0.01, 2, c)).astype(np.float32) for c in counts]
+    runs[10][:] = 0.0
     starts = np.concatenate(([0], np.cumsum(counts)))
     full = full_deposits(np.concatenate(runs), starts)
     for run, value in zip(runs, full, strict=True):

@@ -21,7 +21,6 @@ per-stroke box of untouched pixels is ever filled.
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,13 +71,11 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     """(N,) float32: the 90th percentile of the positive entries of each of N runs of ``deposit`` (E,) >= 0.
 
     Runs are [starts[i], starts[i + 1]); linear between order statistics as
-    np.percentile (in float64); 0 for a run with no positive entry. One sort
-    of the whole array: each value's float32 bits (which order non-negative
-    floats, +0.0 lowest with bits 0) below its run's index, as the two halves
-    of one 64-bit key; a run's zeros are its keys equal to its index << 32.
-    The keys come grouped by run, so the merge sort that finds runs in them
-    ("stable"; equal keys are equal values, so any sort gives the same
-    result) orders them faster than a quicksort.
+    np.percentile (in float64); 0 for a run with no positive entry. Each run
+    is copied into a row of its own, as wide as the power of two at or above
+    its length and padded with -inf, rows of one width side by side in a
+    block; a block is partitioned at the lowest rank any of its rows needs
+    and sorted from there, so a run's positive entries end its row in order.
     """
     n = len(starts) - 1
     out = np.zeros(n, np.float32)
@@ -86,23 +83,38 @@ def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     nonempty = counts > 0
     if not nonempty.any():
         return out
-    deposit = np.ascontiguousarray(deposit, np.float32)
-    keys = np.empty(len(deposit), np.uint64)
-    halves = keys.view(np.uint32).reshape(-1, 2)
-    low = 0 if sys.byteorder == "little" else 1
-    halves[:, low] = deposit.view(np.uint32)
-    halves[:, 1 - low] = np.repeat(np.arange(n, dtype=np.uint32), counts)
-    keys.sort(kind="stable")
-    ordered = keys.view(np.uint32).reshape(-1, 2)[:, low].view(np.float32)
-    positive = starts[1:] - np.searchsorted(keys, (np.arange(n, dtype=np.uint64) << np.uint64(32)) + np.uint64(1))
+    deposit = np.asarray(deposit, np.float32)
+    positive = np.zeros(n, np.int64)
+    positive[nonempty] = np.add.reduceat(deposit > 0, starts[:-1][nonempty])
+    width = np.left_shift(1, np.ceil(np.log2(np.maximum(counts, 1))).astype(np.int64))
+    order = np.argsort(width, kind="stable")                     # rows grouped by width
+    ends = np.zeros(n + 1, np.int64)
+    np.cumsum(width[order], out=ends[1:])
+    row_start = np.empty(n, np.int64)
+    row_start[order] = ends[:-1]
+    rows = np.full(int(ends[-1]), -np.inf, np.float32)
+    slot = np.repeat(row_start - starts[:-1], counts)
+    slot += np.arange(len(deposit))
+    rows[slot] = deposit
     has = positive > 0
-    count = positive[has]
-    position = 0.9 * (count - 1)
-    below = position.astype(np.int64)
-    first = starts[1:][has] - count                              # the positives are each run's last entries
-    low_value = ordered[first + below].astype(np.float64)
-    high = np.where(below + 1 < count, ordered[np.minimum(first + below + 1, len(ordered) - 1)], low_value)
-    out[has] = (low_value + (high - low_value) * (position - below)).astype(np.float32)
+    position = 0.9 * (positive - 1)
+    below = np.maximum(position, 0).astype(np.int64)
+    first = width - positive                                     # each row's first positive entry, once ordered
+    lowest = np.where(has, first + below, width)[order]
+    widths, group_first = np.unique(width[order], return_index=True)
+    group_bounds = np.append(group_first, n)
+    for row_width, a, b in zip(widths.tolist(), group_bounds[:-1].tolist(), group_bounds[1:].tolist(), strict=True):
+        rank = int(lowest[a:b].min())
+        if rank >= row_width:
+            continue
+        block = rows[int(ends[a]):int(ends[b])].reshape(b - a, row_width)
+        if rank > 0:
+            block.partition(rank, axis=1)
+        block[:, rank:].sort(axis=1)
+    count, below, at = positive[has], below[has], row_start[has] + first[has] + below[has]
+    low_value = rows[at].astype(np.float64)
+    high = np.where(below + 1 < count, rows[np.minimum(at + 1, len(rows) - 1)], low_value)
+    out[has] = (low_value + (high - low_value) * (position[has] - below)).astype(np.float32)
     return out
 
 
