@@ -29,8 +29,8 @@ from scipy import sparse
 from .brush import BrushTip
 from .folding import RowTables, run_colours, tip_grid
 
-# Box pixels accumulated at once when splatting (bounds the scratch memory: 6 float64 values each).
-SPLAT_CHUNK_PIXELS = 1 << 21
+# Box pixels accumulated at once when splatting (bounds the scratch memory: 6 float32 values each).
+SPLAT_CHUNK_PIXELS = 1 << 19
 
 
 @dataclass
@@ -227,11 +227,14 @@ def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray,
     for channel in range(3):
         np.multiply(values[..., 0], colour[..., channel], out=values[..., 1 + channel])
     np.multiply(values[..., 4], (build[:, None] * ridge[None, :]).astype(np.float32), out=values[..., 5])
-    return _splat(x, y, span, values, track_starts, (h, w))
+    del colour
+    starts, pixel, sums = _splat(x, y, span, values, track_starts, (h, w))
+    del x, y, span, values
+    return _footprints_of_sums(starts, pixel, sums)
 
 
 def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, track_starts: np.ndarray,
-           shape: tuple) -> Footprints:
+           shape: tuple) -> tuple:
     """Splat (K, W) track samples of N strokes bilinearly and sum them per (stroke, pixel).
 
     x, y: (K, W) float32 positions (px); span: (K, W) the arc each sample
@@ -240,13 +243,16 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     (N + 1,) the strokes' runs of the K track samples. Each stroke sums its
     samples on its own bounding box, a chunk of strokes at a time (one sparse
     product per chunk, in sample order, float32); what lands off the canvas
-    is dropped.
+    is dropped. Returns (starts (N + 1,), pixel (E,), sums (E, 6) float32):
+    stroke i's pixels and the sums of the values there are entries
+    [starts[i], starts[i + 1]).
     """
     h, w = shape
     n, n_columns = len(track_starts) - 1, x.shape[1]
     fx, fy = np.floor(x), np.floor(y)
     ax, ay = x - fx, y - fy
     ix, iy = fx.astype(np.int32), fy.astype(np.int32)
+    del fx, fy
     seg = track_starts[:-1]
     x0 = np.minimum.reduceat(ix.min(axis=1), seg).astype(np.int64)
     y0 = np.minimum.reduceat(iy.min(axis=1), seg).astype(np.int64)
@@ -260,6 +266,7 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     np.multiply(ax, by, out=weights[..., 1])
     np.multiply(bx, ay, out=weights[..., 2])
     np.multiply(ax, ay, out=weights[..., 3])
+    del ax, ay, bx, by
     values = values.reshape(-1, 6)
     cut = np.searchsorted(np.cumsum(area), np.arange(1, int(area.sum() // SPLAT_CHUNK_PIXELS) + 1)
                           * SPLAT_CHUNK_PIXELS)
@@ -306,10 +313,15 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
         sums.append(np.take(laid.view(np.dtype((np.void, 24))).ravel(), touched).view(np.float32).reshape(-1, 6))
         counts.append(per_stroke)
         del laid
+    del weights, ix, iy, values
     join = (lambda parts: parts[0]) if len(pixels) == 1 else np.concatenate
-    pixel, laid = join(pixels), join(sums)
     starts = np.zeros(n + 1, np.int64)
     np.cumsum(join(counts), out=starts[1:])
+    return starts, join(pixels), join(sums)
+
+
+def _footprints_of_sums(starts: np.ndarray, pixel: np.ndarray, laid: np.ndarray) -> Footprints:
+    """The Footprints of ``_splat``'s sums: laid (E, 6) depth, depth-weighted colour, deposit and height."""
     depth = np.ascontiguousarray(laid[:, 0])
     transmittance = np.exp(-depth)
     share = np.divide(1.0 - transmittance, depth, out=np.zeros_like(depth), where=depth > 0)

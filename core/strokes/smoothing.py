@@ -103,7 +103,7 @@ def smooth(image: np.ndarray, sigma: float) -> SmoothedImage:
     factor = block_factor(sigma)
     if factor == 1:
         pixels = ndimage.gaussian_filter(image, sigma=(sigma, sigma, 0), mode="reflect")
-        return SmoothedImage(pixels.astype(np.float32), 1, float(sigma))
+        return SmoothedImage(pixels.astype(np.float32, copy=False), 1, float(sigma))
     rest = math.sqrt(max(sigma * sigma - (factor * factor - 1) / 12.0, 0.0)) / factor
     pixels = ndimage.gaussian_filter(block_mean(image, factor), sigma=(rest, rest, 0), mode="reflect")
-    return SmoothedImage(pixels.astype(np.float32), factor, float(sigma))
+    return SmoothedImage(pixels.astype(np.float32, copy=False), factor, float(sigma))
