@@ -133,7 +133,8 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
         np.cumsum(counts[strokes], out=starts[1:])
     before = np.take(pixel_rows(colour.reshape(-1, 3)), pixel).view(np.float32).reshape(-1, 3)
     target = np.take(pixel_rows(reference.reshape(-1, 3)), pixel).view(np.float32).reshape(-1, 3)
-    after = before * transmittance[:, None] + paint
+    after = before * transmittance[:, None]
+    after += paint
     after -= target
     before -= target
     change = (np.einsum("ij,ij->i", after, after, dtype=np.float64)
