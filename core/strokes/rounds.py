@@ -121,9 +121,8 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
     """(N,) bool: whether each of N strokes' ``footprints``, laid alone on a canvas of ``colour`` (H, W, 3)
     float32, mends more than ``ratio`` (a number, or (N,) one per stroke) times the error it spoils. With e and
     e' a pixel's squared Euclidean RGB distance from ``reference`` (H, W, 3) float32 before and after the
-    stroke (Eq. 4), the
-    stroke mends sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels. strokes: optional (M,)
-    bool over the footprints' M strokes, judge only those (N of them, in order)."""
+    stroke (Eq. 4), the stroke mends sum max(0, e - e') and spoils sum max(0, e' - e) over its pixels.
+    strokes: optional (M,) bool over the footprints' M strokes, judge only those (N of them, in order)."""
     pixel, starts = footprints.pixel, footprints.starts
     transmittance, paint = footprints.transmittance, footprints.paint
     if strokes is not None:
