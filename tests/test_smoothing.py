@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from core.strokes.smoothing import smooth
+from core.strokes.smoothing import block_mean, smooth
 
 
 def test_small_sigmas_blur_at_full_resolution():
@@ -38,3 +38,20 @@ def test_a_one_pixel_image_is_that_pixel_everywhere():
     level = smooth(np.array([[[0.2, 0.4, 0.6]]], np.float32), 0.0)
     values = level.sample(np.array([0.0, 3.5], np.float32), np.array([0.0, -2.0], np.float32))
     np.testing.assert_array_equal(values, np.array([[0.2, 0.4, 0.6]] * 2, np.float32))
+
+
+@pytest.mark.parametrize("shape, factor", [((9, 12, 3), 3), ((10, 7, 3), 4), ((5, 5, 1), 2), ((1, 1, 3), 2)])
+def test_block_means_sum_each_block_in_row_major_order(shape, factor):
+    # every block, edge blocks padded with their edge pixels, summed pixel after pixel in float32 and divided
+    # by the block's f^2 pixels, worked out one block at a time
+    image = (np.random.default_rng(7).random(shape) * 100).astype(np.float32)
+    h, w, channels = shape
+    means = block_mean(image, factor)
+    assert means.shape == (-(-h // factor), -(-w // factor), channels) and means.dtype == np.float32
+    for i in range(means.shape[0]):
+        for j in range(means.shape[1]):
+            total = np.zeros(channels, np.float32)
+            for a in range(factor):
+                for b in range(factor):
+                    total += image[min(i * factor + a, h - 1), min(j * factor + b, w - 1)]
+            np.testing.assert_array_equal(means[i, j], total / np.float32(factor * factor))

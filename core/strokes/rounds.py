@@ -183,14 +183,17 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
     Returns {"anchors" (N, 2), "colours" (N, B, 3) bristle colours,
     "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}. The
     strokes are planned in runs on the worker threads (the canvas does not
-    change in between), PLAN_CHUNK_SAMPLES curve samples at a time in all,
-    which bounds the memory of the tests.
+    change in between), as many runs as a multiple of the workers,
+    PLAN_CHUNK_SAMPLES curve samples at a time in all, which bounds the
+    memory of the tests.
     """
     workers = worker_count()
     samples = (2 * max(0, params.max_length - 1) * samples_per_segment(size) + 1) * (len(tip) + 8)
     step = max(1, PLAN_CHUNK_SAMPLES // (samples * workers))
     n = len(anchors)
     count = max(-(-n // step), min(workers, n // WORKER_LEAST_STROKES))
+    if count > 1:
+        count = min(n, -(-count // workers) * workers)                 # every worker busy to the last run
     bounds = np.linspace(0, n, max(count, 1) + 1).astype(np.int64).tolist()
     runs = [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
     parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[run], size, tip, draws[run],

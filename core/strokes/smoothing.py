@@ -66,14 +66,27 @@ class SmoothedImage:
 
 
 def block_mean(image: np.ndarray, factor: int) -> np.ndarray:
-    """(ceil(H / f), ceil(W / f), C) float32 means of f x f blocks of an (H, W, C) image (partial edge blocks too)."""
+    """(ceil(H / f), ceil(W / f), C) float32 means of f x f blocks of an (H, W, C) image (partial edge blocks
+    padded with their edge pixels).
+
+    Each block is summed in float32 in row-major order, one pixel after
+    another, then divided by f^2: one whole-image add per block position,
+    along rows of blocks (the order a NumPy mean over the two block axes
+    takes for three channels, at a fraction of its time).
+    """
     h, w = image.shape[:2]
     ny, nx = -(-h // factor), -(-w // factor)
     image = np.asarray(image, np.float32)
     if ny * factor != h or nx * factor != w:
         image = np.pad(image, ((0, ny * factor - h), (0, nx * factor - w), (0, 0)), mode="edge")
-    blocks = np.ascontiguousarray(image).reshape(ny, factor, nx, factor, -1)
-    return blocks.mean(axis=(1, 3), dtype=np.float32)
+    blocks = np.ascontiguousarray(image).reshape(ny, factor, nx, factor, -1).transpose(0, 4, 2, 1, 3)
+    total = blocks[..., 0, 0].copy()                             # (ny, C, nx): long runs along a row of blocks
+    for a in range(factor):
+        for b in range(factor):
+            if a or b:
+                total += blocks[..., a, b]
+    total /= np.float32(factor * factor)
+    return np.ascontiguousarray(total.transpose(0, 2, 1))
 
 
 def block_factor(sigma: float) -> int:
