@@ -49,7 +49,7 @@ MAX_MODULES_PER_FOLDER = 12
 
 
 def module_name(path: Path) -> str:
-    """core/files/io.py -> core.files.io; core/files/__init__.py -> core.files."""
+    """core/files/reading.py -> core.files.reading; core/files/__init__.py -> core.files."""
     parts = list(path.relative_to(ROOT).with_suffix("").parts)
     if parts[-1] == "__init__":
         parts.pop()
@@ -146,7 +146,7 @@ def test_graph_is_read():
     graph = import_graph()
     assert "core.methods.registry" in graph and "addon.painting.ops_paint" in graph
     assert "core.methods.huang11" in graph["core.methods.registry"]
-    assert "core.files.io" in graph["core.strokes.brush"]  # a deferred import counts
+    assert "core.files.reading" in graph["core.strokes.brush"]  # a deferred import counts
     assert "core" in graph["addon.painting.ops_paint"]  # `from ... import core`, resolved
     assert "addon.scene.canvas" in graph["addon.settings.properties"]  # `from ..scene import canvas`, deferred
 
