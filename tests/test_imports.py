@@ -45,7 +45,6 @@ ADDON_LAYERS = [
     ("panels", {"addon.panels"}),
     ("entry", {"addon", "addon.cli_command"}),
 ]
-MAX_MODULES_PER_FOLDER = 12
 
 
 def module_name(path: Path) -> str:
@@ -196,20 +195,3 @@ def test_core_never_imports_addon_or_bpy():
             names |= {(n.module or "").split(".")[0] for n in ast.walk(tree)
                       if isinstance(n, ast.ImportFrom) and n.level == 0}
             assert not names & {"bpy", "addon"}, f"{name} imports {names & {'bpy', 'addon'}}"
-
-
-def package_folders() -> list:
-    """Every folder of core/ and addon/, the two top folders included."""
-    return [folder for top in TOP_PACKAGES for folder in [ROOT / top, *sorted((ROOT / top).rglob("*"))]
-            if folder.is_dir() and folder.name != "__pycache__"]
-
-
-def test_folders_are_read():
-    folders = {folder.relative_to(ROOT).as_posix() for folder in package_folders()}
-    assert {"core", "core/methods", "addon", "addon/scene"} <= folders
-
-
-@pytest.mark.parametrize("folder", [f.relative_to(ROOT).as_posix() for f in package_folders()])
-def test_no_folder_holds_more_than_12_modules(folder):
-    modules = [p for p in (ROOT / folder).glob("*.py") if p.name not in ("__init__.py", "__main__.py")]
-    assert len(modules) <= MAX_MODULES_PER_FOLDER, f"{folder} holds {len(modules)} modules"
