@@ -98,14 +98,14 @@ def main() -> None:
     from common import photo  # noqa: E402
     from core import Params  # noqa: E402
     from core.api import paint_file  # noqa: E402
-    from core.files import io  # noqa: E402
+    from core.files import writing  # noqa: E402
 
     with tempfile.TemporaryDirectory(prefix="paint_relief_bench_") as tmp:
         work = Path(tmp)
         (work / "pkg").mkdir()
         os.symlink(ROOT, work / "pkg" / "paint_relief")
         image = photo(args.megapixels)
-        io.write_png(work / "photo.png", image)
+        writing.write_png(work / "photo.png", image)
         t0 = time.perf_counter()
         paint_file(work / "photo.png", work / "painted", Params())
         h, w = image.shape[:2]
@@ -129,11 +129,11 @@ def panel_photo(work: Path, megapixels: float, runs: int, size: int, samples: in
     import statistics
 
     from common import photo  # noqa: E402
-    from core.files import io  # noqa: E402
+    from core.files import writing  # noqa: E402
 
     image = photo(megapixels)
     path = work / f"photo_{megapixels:g}mp.png"
-    io.write_png(path, image)
+    writing.write_png(path, image)
     h, w = image.shape[:2]
     del image
     results = [run_case(work, path, "MESH", "panel", size, samples) for _ in range(runs)]

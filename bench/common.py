@@ -16,14 +16,14 @@ from scipy import ndimage
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from core.files import io  # noqa: E402
+from core.files import reading  # noqa: E402
 
 SAMPLE = ROOT / "sample_scenes" / "coffee.png"
 
 
 def photo(megapixels: float, source: Path = SAMPLE) -> np.ndarray:
     """A bundled photograph resampled (bilinear) to about ``megapixels``, float32 (H, W, 3) sRGB."""
-    image = io.read_image(source)
+    image = reading.read_image(source)
     h, w = image.shape[:2]
     scale = math.sqrt(megapixels * 1e6 / (h * w))
     return np.clip(ndimage.zoom(image, (scale, scale, 1), order=1), 0.0, 1.0).astype(np.float32)

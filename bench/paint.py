@@ -34,7 +34,7 @@ import time
 from pathlib import Path
 
 from common import ROOT, photo
-from core.files import io
+from core.files import reading, writing
 from core.workers import worker_count
 
 
@@ -88,7 +88,7 @@ def measure(source: Path, mp: float, runs: int, tmp: Path) -> dict:
     """
     image = tmp / f"{source.stem}_{mp:g}mp.png"
     pixels = photo(mp, source)
-    io.write_png(image, pixels)
+    writing.write_png(image, pixels)
     walls, peaks, stages = [], [], {}
     for i in range(runs):
         out = tmp / f"out_{source.stem}_{mp:g}_{i}"
@@ -152,7 +152,7 @@ def main() -> None:
                           f"{median:>8.2f} {median / mpx:>6.2f} {m['peak']:>8.0f} {m['folder']:>7.1f} "
                           f"{m['folder'] / mpx:>6.1f}  {split}", flush=True)
                 if args.widths:
-                    spent = strokes_by_width(io.read_image(m["image"]))
+                    spent = strokes_by_width(reading.read_image(m["image"]))
                     print("      by width: " + ", ".join(
                         f"{width} px {n} strokes {s:.2f} s ({1e3 * s / n:.2f} ms each)"
                         for width, (n, s) in sorted(spent.items())), flush=True)

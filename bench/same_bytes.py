@@ -20,7 +20,7 @@ import tempfile
 from pathlib import Path
 
 from common import ROOT, photo
-from core.files import io
+from core.files import writing
 
 METHODS = ("huang11", "hertzmann98")
 HEIGHT_MODES = ("over", "accumulate")
@@ -50,7 +50,7 @@ def main() -> None:
             image = source_path(name)
             if args.megapixels:
                 resized = Path(tmp) / f"{image.stem}.png"
-                io.write_png(resized, photo(args.megapixels, image))
+                writing.write_png(resized, photo(args.megapixels, image))
                 image = resized
             for method in METHODS:
                 for mode in HEIGHT_MODES:

@@ -32,7 +32,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from core.errors import InputError  # noqa: E402
-from core.files import io  # noqa: E402
+from core.files import writing  # noqa: E402
 from core.files.maps import check_painting  # noqa: E402
 from core.files.staging import JOURNAL_NAME, STAGING_PREFIX, settle  # noqa: E402
 
@@ -103,7 +103,7 @@ def stress(kills: int, megapixels: float, seed: int, work: Path, verbose: bool =
     from common import photo
 
     image = work / "photo.png"
-    io.write_png(image, photo(megapixels))
+    writing.write_png(image, photo(megapixels))
     out = work / "out"
     first = subprocess.run(paint_command(image, out, 1), env=_env(), cwd=ROOT, capture_output=True, text=True)
     if first.returncode != 0:

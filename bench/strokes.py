@@ -22,7 +22,7 @@ import argparse
 from common import ROOT
 from core import Params
 from core.figures.brushwork import brushwork_sheet
-from core.files import io
+from core.files import reading, writing
 from core.measures.metrics import psnr
 from core.measures.stroke_metrics import (
     area_share_elongated,
@@ -73,7 +73,7 @@ def main() -> None:
                "grad corr", "width contr")
     print(f"{'image':10} {'method':12} " + " ".join(f"{c:>12}" for c in columns))
     for name in SAMPLES:
-        photo = io.read_image(ROOT / "sample_scenes" / f"{name}.png")
+        photo = reading.read_image(ROOT / "sample_scenes" / f"{name}.png")
         ours = paint(photo, Params(height_mode=args.height_mode))
         theirs = paint(photo, Params(method="hertzmann98", height_mode=args.height_mode))
         baseline = len(theirs.strokes)
@@ -86,7 +86,7 @@ def main() -> None:
         if args.figure and name in FIGURE_BOX:
             sheet = brushwork_sheet([("Huang 2011", ours.colour, ours.height),
                                      ("Hertzmann 1998", theirs.colour, theirs.height)], FIGURE_BOX[name])
-            io.write_png(args.figure, sheet)
+            writing.write_png(args.figure, sheet)
             print(f"wrote {args.figure}")
             args.figure = None
 

@@ -6,7 +6,7 @@ from pathlib import Path
 from typing import Callable, Optional
 
 from .errors import InputError, PaintReliefError
-from .files import budget, io
+from .files import budget, reading
 from .files.staging import output_folder
 from .params import Params
 from .progress import CancelFn, ProgressFn
@@ -23,10 +23,10 @@ def check_input(input_path, params: Params, mask_path: Optional[str] = None,
     PaintReliefError with one sentence.
     """
     params.validate()
-    width, height, _ = io.probe(input_path, params.max_megapixels)
+    width, height, _ = reading.probe(input_path, params.max_megapixels)
     budget.check_bomb(input_path, width, height)
     if mask_path:
-        mask_w, mask_h, _ = io.probe(mask_path, params.max_megapixels, role="mask")
+        mask_w, mask_h, _ = reading.probe(mask_path, params.max_megapixels, role="mask")
         budget.check_bomb(mask_path, mask_w, mask_h)
     budget.check_stroke_sizes(params, height, width)
     budget.check(input_path, width, height, params.layers, mask=bool(mask_path), max_memory=max_memory)
@@ -57,14 +57,14 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
 
     width, height = check_input(input_path, params, mask_path, max_memory)
     budget.check_space(output_dir, input_path, width, height, normal_map)
-    pages = io.image_count(input_path)
+    pages = reading.image_count(input_path)
     if pages > 1 and notice is not None:
         notice(pages_notice(input_path, pages))
     try:
         with output_folder(output_dir) as folder:
             folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()))
-            image = io.read_image(input_path, params.max_megapixels, params.canvas_colour)
-            mask = io.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
+            image = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)
+            mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
             painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
             with folder.staged() as staging:
                 report = write_painting(staging, painting, str(input_path), normal_map, pages=pages)

@@ -17,7 +17,7 @@ from typing import List, Optional
 from .analysis.run import analyze
 from .errors import Cancelled, PaintReliefError, ParameterError
 from .figures.visualize import orientation_picture, partition_overlay
-from .files import budget, io, quiet, signals
+from .files import budget, quiet, reading, signals, writing
 from .files.staging import output_folder
 from .params import STYLE_NAMES, Params
 from .progress import ConsoleProgress
@@ -183,14 +183,14 @@ def run_analyze(args: argparse.Namespace, progress) -> None:
 
     params = params_from_args(args)
     check_input(args.input, params, args.mask, max_memory(args))
-    pages = io.image_count(args.input)
+    pages = reading.image_count(args.input)
     if pages > 1:
         _notice(progress, pages_notice(args.input, pages))
     try:
         with output_folder(args.output) as folder:
             folder.check_names(ANALYSIS_FILES)
-            image = io.read_image(args.input, params.max_megapixels, params.canvas_colour)
-            mask = io.read_gray(args.mask, params.max_megapixels, role="mask") if args.mask else None
+            image = reading.read_image(args.input, params.max_megapixels, params.canvas_colour)
+            mask = reading.read_gray(args.mask, params.max_megapixels, role="mask") if args.mask else None
             analysis = analyze(image, params, mask=mask, progress=progress)
             with folder.staged() as staging:
                 write_analysis(staging, analysis, params, args.input, pages)
@@ -227,17 +227,17 @@ def write_analysis(out: Path, analysis: Analysis, params: Params, source: str, p
     t0 = time.perf_counter()
     attributes = {"paint_relief:version": __version__, "paint_relief:seed": str(params.seed),
                   "paint_relief:params": json.dumps(params.to_dict(), sort_keys=True)}
-    io.write_png(out / "reference.png", analysis.reference)
-    io.write_exr(out / "importance.exr", analysis.importance, channels=("Y",), attributes=attributes)
-    io.write_png(out / "importance.png", analysis.importance)
-    io.write_png(out / "partition.png",
+    writing.write_png(out / "reference.png", analysis.reference)
+    writing.write_exr(out / "importance.exr", analysis.importance, channels=("Y",), attributes=attributes)
+    writing.write_png(out / "importance.png", analysis.importance)
+    writing.write_png(out / "partition.png",
                  partition_overlay(analysis.reference, analysis.grids, analysis.grid_sizes, analysis.sizes))
-    io.write_png(out / "orientation.png", orientation_picture(analysis.orientation, analysis.reference, params.seed))
+    writing.write_png(out / "orientation.png", orientation_picture(analysis.orientation, analysis.reference, params.seed))
     summary = analysis.summary()
     summary["seconds"]["pictures"] = round(time.perf_counter() - t0, 4)
     summary.update({"input": str(source), "input_page": 0, "input_pages": int(pages), "version": __version__,
                     "seed": params.seed, "params": params.to_dict()})
-    io.write_json(out / "analysis.json", summary)
+    writing.write_json(out / "analysis.json", summary)
 
 
 def _add_light_parser(sub) -> None:
@@ -305,7 +305,7 @@ def run_light(args: argparse.Namespace, progress) -> None:
             raise InputError(f"{folder / name} is missing: run `python -m core paint` into that folder first.")
     maps = {}
     for name, channels in zip(names, (3, 1, 1), strict=False):
-        data, _, _ = io.read_exr(folder / name)
+        data, _, _ = reading.read_exr(folder / name)
         if data.shape[2] != channels:
             raise InputError(f"{folder / name} has {data.shape[2]} channels, expected {channels}.")
         if "color.exr" in maps and data.shape[:2] != maps["color.exr"].shape[:2]:
@@ -317,7 +317,7 @@ def run_light(args: argparse.Namespace, progress) -> None:
     image = lighting.light(model, linear_to_srgb(maps["color.exr"]), maps["height.exr"][:, :, 0],
                            maps["orientation.exr"][:, :, 0] if model == "paper" else None,
                            azimuth=azimuth, elevation=elevation, strength=strength)
-    io.write_png(folder / f"lit_{model}.png", image)
+    writing.write_png(folder / f"lit_{model}.png", image)
     if progress is not None:
         progress(1.0, f"Wrote {folder / f'lit_{model}.png'}")
 

@@ -66,8 +66,13 @@ def test_light_direction_convention():
 
 
 def test_wave_scale_for_period():
-    scale = values.wave_scale_for_period(0.001)
-    assert math.sin(20 * scale * 0.001) == pytest.approx(math.sin(2 * math.pi), abs=1e-9)
+    """Blender's Wave Texture (bands, sine profile) at scale s is 0.5 + 0.5 sin(20 s x - pi/2) along its axis:
+    one band every 2 pi / (20 s) units, so a band every millimetre is s = 2 pi / 0.02 = 100 pi."""
+    assert values.wave_scale_for_period(0.001) == pytest.approx(100 * math.pi, rel=1e-12)
+    assert values.wave_scale_for_period(0.0008) == pytest.approx(125 * math.pi, rel=1e-12)
+    scale = values.wave_scale_for_period(0.002)
+    bands = [0.5 + 0.5 * math.sin(20 * scale * x - math.pi / 2) for x in (0.0, 0.0005, 0.001, 0.002, 0.003)]
+    assert bands == pytest.approx([0.0, 0.5, 1.0, 0.0, 1.0], abs=1e-9)  # trough, rising, crest, trough, crest
 
 
 # --- inside Blender ---------------------------------------------------------------

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from core.errors import InputError, ParameterError
-from core.files import budget, io
+from core.files import budget, writing
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -62,7 +62,7 @@ def test_estimate_bounds_a_measured_run(tmp_path):
     rng = np.random.default_rng(1)
     h, w = 600, 800
     image = np.clip(np.cumsum(rng.normal(0, 0.02, (h, w, 3)), axis=1) + 0.5, 0, 1).astype(np.float32)
-    io.write_png(tmp_path / "p.png", image)
+    writing.write_png(tmp_path / "p.png", image)
     env = dict(os.environ, PYTHONPATH=str(REPO))
     proc = subprocess.Popen([sys.executable, "-m", "core", "paint", str(tmp_path / "p.png"), "-o",
                              str(tmp_path / "o"), "-q"], env=env, cwd=REPO)

@@ -10,7 +10,7 @@ import OpenImageIO as oiio
 import pytest
 
 from core.cli import main
-from core.files import io
+from core.files import reading, writing
 from core.params import Params
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -25,7 +25,7 @@ def photo(tmp_path):
     image[:, :45] = np.linspace(0.2, 0.6, 45)[None, :, None]
     image[:, 45:] = rng.random((60, 45, 3))
     path = tmp_path / "photo.png"
-    io.write_png(path, image)
+    writing.write_png(path, image)
     return path
 
 
@@ -37,7 +37,7 @@ def test_analyze_writes_every_output(photo, tmp_path, capsys):
     assert report["width"] == 90 and report["height"] == 60
     assert report["grids"] == sum(report["grids_per_stroke_size"].values())
     assert set(report["seconds"]) >= {"reference", "importance", "partition", "orientation"}
-    importance, channels, attributes = io.read_exr(out / "importance.exr")
+    importance, channels, attributes = reading.read_exr(out / "importance.exr")
     assert importance.shape == (60, 90, 1) and channels == ["Y"]
     assert 0.0 <= importance.min() and importance.max() <= 1.0
     assert json.loads(attributes["paint_relief:params"])["detail"] == Params().detail
@@ -133,6 +133,6 @@ def test_failed_run_keeps_earlier_outputs(photo, tmp_path):
 
 def test_cancel_stops_cleanly(photo):
     from core import Cancelled, Params, analyze
-    image = io.read_image(photo)
+    image = reading.read_image(photo)
     with pytest.raises(Cancelled):
         analyze(image, Params(), cancel=lambda: True)

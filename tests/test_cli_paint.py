@@ -7,7 +7,7 @@ import pytest
 
 from core.cli import main
 from core.colour import srgb_to_linear
-from core.files import io
+from core.files import reading, writing
 
 OUTPUTS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "lit_paper.png",
            "strokes.json", "report.json"}
@@ -24,7 +24,7 @@ def photo(tmp_path_factory):
     image[..., 1] = 0.4
     image[:, 32:] = rng.random((48, 32, 3))
     path = tmp_path_factory.mktemp("input") / "photo.png"
-    io.write_png(path, image)
+    writing.write_png(path, image)
     return path
 
 
@@ -40,13 +40,13 @@ def test_paint_writes_every_output(painted):
 
 
 def test_maps_agree_with_the_painting(painted):
-    colour, channels, attributes = io.read_exr(painted / "color.exr")
+    colour, channels, attributes = reading.read_exr(painted / "color.exr")
     assert channels == ["R", "G", "B"] and colour.shape == (48, 64, 3)
-    preview = io.read_image(painted / "painting.png")
+    preview = reading.read_image(painted / "painting.png")
     # color.exr holds the scene-linear version of the sRGB painting.
     np.testing.assert_allclose(colour, srgb_to_linear(preview), atol=0.01)
-    height, channels, _ = io.read_exr(painted / "height.exr")
-    opacity, _, _ = io.read_exr(painted / "opacity.exr")
+    height, channels, _ = reading.read_exr(painted / "height.exr")
+    opacity, _, _ = reading.read_exr(painted / "opacity.exr")
     assert channels == ["Y"] and height.shape == (48, 64, 1)
     # 1 = one full bristle's contact; ridges and the build-up at a stroke's lift-off reach a little above
     assert height.min() >= 0.0 and height.max() <= 1.6 and height.max() > 0.1
@@ -89,7 +89,7 @@ def test_accumulate_mode_is_recorded(photo, tmp_path):
     out = tmp_path / "acc"
     assert main(["paint", str(photo), "-o", str(out), "-q", "--height-mode", "accumulate"]) == 0
     assert json.loads((out / "report.json").read_text())["height_mode"] == "accumulate"
-    _, _, attributes = io.read_exr(out / "height.exr")
+    _, _, attributes = reading.read_exr(out / "height.exr")
     assert attributes["paint_relief:height_mode"] == "accumulate"
 
 
@@ -112,7 +112,7 @@ def test_invalid_parameters(photo, tmp_path, capsys, options, words):
 def test_bad_brush_png(photo, tmp_path, capsys, kind):
     brush = tmp_path / "brush.png"
     if kind == "black":
-        io.write_png(brush, np.zeros((8, 32), np.float32))
+        writing.write_png(brush, np.zeros((8, 32), np.float32))
     else:
         brush.write_text("no image here")
     assert main(["paint", str(photo), "-o", str(tmp_path / "out"), "-q", "--brush", str(brush)]) != 0

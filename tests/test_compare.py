@@ -23,7 +23,7 @@ import pytest
 from addon_values import values
 
 from core.colour import linear_to_srgb, luminance, srgb_to_linear
-from core.files import io
+from core.files import reading, writing
 from core.lighting import bump_lighting, directional_lighting, paper_lighting
 from core.measures.metrics import pearson
 
@@ -137,7 +137,7 @@ def test_render_comparison_operator_headless(checks):
 def _photo(path, w=48, h=32):
     y, x = np.mgrid[0:h, 0:w]
     stripes = 0.5 + 0.4 * np.sin(x / 3.0) * np.cos(y / 4.0)
-    io.write_png(path, np.stack([x / w, y / h, stripes], axis=-1).astype(np.float32))
+    writing.write_png(path, np.stack([x / w, y / h, stripes], axis=-1).astype(np.float32))
     return path
 
 
@@ -167,10 +167,10 @@ def test_compare_script_writes_everything(end_to_end):
                  "scene.blend", "input.png", "painting/color.exr", "painting/report.json",
                  "renders/relief_000.exr", "renders/flat_000.exr", "renders/relief_180.exr", "renders/flat_180.exr"):
         assert (out / name).is_file(), name
-    height = io.read_exr(out / "painting" / "height.exr")[0]
+    height = reading.read_exr(out / "painting" / "height.exr")[0]
     assert max(height.shape[:2]) == 48  # the --size cap
     for render in (out / "renders").glob("*.exr"):
-        assert io.read_exr(render)[0].shape[:2] == height.shape[:2]
+        assert reading.read_exr(render)[0].shape[:2] == height.shape[:2]
     stdout = end_to_end["first"].stdout
     for step in ("extension", "paint", "scene", "renders", "blend", "comparison", "total"):
         assert step in stdout.split("Seconds per step:")[1], step
@@ -184,17 +184,17 @@ def test_compare_script_figures_recomputed_from_its_renders(end_to_end):
     """comparison.json's Pearson r, recomputed here with core.lighting and core.measures.metrics from the files."""
     out = end_to_end["out"]
     result = json.loads((out / "comparison.json").read_text())
-    linear = io.read_exr(out / "painting" / "color.exr")[0][..., :3]
+    linear = reading.read_exr(out / "painting" / "color.exr")[0][..., :3]
     colour = linear_to_srgb(linear)
-    height = io.read_exr(out / "painting" / "height.exr")[0][..., 0]
-    orientation = io.read_exr(out / "painting" / "orientation.exr")[0][..., 0]
+    height = reading.read_exr(out / "painting" / "height.exr")[0][..., 0]
+    orientation = reading.read_exr(out / "painting" / "orientation.exr")[0][..., 0]
     elevation = math.radians(result["elevation_deg"])
     unlit = luminance(linear)
     assert [e["azimuth_deg"] for e in result["azimuths"]] == [0.0, 180.0]
     for entry in result["azimuths"]:
         az = entry["azimuth_deg"]
-        relief = luminance(io.read_exr(out / "renders" / "relief_{:03.0f}.exr".format(az))[0][..., :3])
-        flat = luminance(io.read_exr(out / "renders" / "flat_{:03.0f}.exr".format(az))[0][..., :3])
+        relief = luminance(reading.read_exr(out / "renders" / "relief_{:03.0f}.exr".format(az))[0][..., :3])
+        flat = luminance(reading.read_exr(out / "renders" / "flat_{:03.0f}.exr".format(az))[0][..., :3])
         mask = (flat > 0.01) & (unlit > 0.01)
         assert mask.mean() > 0.5
         s3d = relief[mask] / flat[mask] - 1.0

@@ -9,7 +9,7 @@ import pytest
 from core.colour import luminance, srgb_to_linear
 from core.errors import InputError, ParameterError
 from core.evaluation.comparison import render_path, run_comparison, shading
-from core.files import io
+from core.files import reading, writing
 from core.lighting import bump_lighting
 from core.measures.metrics import pearson
 
@@ -23,9 +23,9 @@ def painted(tmp_path):
     srgb = np.dstack([np.full((h, w), 0.6), np.full((h, w), 0.5), np.full((h, w), 0.4)]).astype(np.float32)
     folder = tmp_path / "painting"
     folder.mkdir()
-    io.write_exr(folder / "color.exr", srgb_to_linear(srgb))
-    io.write_exr(folder / "height.exr", height, channels=("Y",))
-    io.write_exr(folder / "orientation.exr", np.zeros((h, w), np.float32), channels=("Y",))
+    writing.write_exr(folder / "color.exr", srgb_to_linear(srgb))
+    writing.write_exr(folder / "height.exr", height, channels=("Y",))
+    writing.write_exr(folder / "orientation.exr", np.zeros((h, w), np.float32), channels=("Y",))
     return folder, srgb, height
 
 
@@ -35,8 +35,8 @@ def fake_renders(folder, srgb, height, azimuths, elevation, relief, gain=0.8):
     renders.mkdir(exist_ok=True)
     for az in azimuths:
         lit = bump_lighting(srgb, height, math.radians(az), math.radians(elevation), relief=relief)
-        io.write_exr(render_path(renders, "relief", az), gain * srgb_to_linear(lit))
-        io.write_exr(render_path(renders, "flat", az), gain * srgb_to_linear(srgb))
+        writing.write_exr(render_path(renders, "relief", az), gain * srgb_to_linear(lit))
+        writing.write_exr(render_path(renders, "flat", az), gain * srgb_to_linear(srgb))
     return renders
 
 
@@ -72,8 +72,8 @@ def test_figures_agree_with_a_recomputation_from_the_saved_images(painted, tmp_p
     folder, srgb, height = painted
     renders = fake_renders(folder, srgb, height, [45], 40, 6.0)
     saved = run_comparison(folder, renders, [45], 40, tmp_path / "out", relief_px=4.0)
-    relief = io.read_exr(render_path(renders, "relief", 45))[0]
-    flat = io.read_exr(render_path(renders, "flat", 45))[0]
+    relief = reading.read_exr(render_path(renders, "relief", 45))[0]
+    flat = reading.read_exr(render_path(renders, "flat", 45))[0]
     s3d = luminance(relief) / luminance(flat) - 1.0
     lit = bump_lighting(srgb, height, math.radians(45), math.radians(40), relief=4.0)
     s2d = luminance(srgb_to_linear(lit)) / luminance(srgb_to_linear(srgb)) - 1.0

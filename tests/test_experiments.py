@@ -5,7 +5,7 @@ import csv
 import numpy as np
 
 from core.cli import main
-from core.files import io
+from core.files import reading, writing
 
 
 def test_experiments_writes_tables_and_sheets(tmp_path):
@@ -16,7 +16,7 @@ def test_experiments_writes_tables_and_sheets(tmp_path):
         image[..., 2] = np.linspace(0.2, 0.8, 64)[None, :]
         image[12:36, 16:48] = rng.random((24, 32, 3))
         path = tmp_path / f"{name}.png"
-        io.write_png(path, image)
+        writing.write_png(path, image)
         paths.append(str(path))
     out = tmp_path / "out"
     assert main(["experiments", *paths, "-o", str(out), "-q"]) == 0
@@ -33,7 +33,7 @@ def test_experiments_writes_tables_and_sheets(tmp_path):
             assert -1.0 <= float(r[f"{key}_ssim"]) <= 1.0
     table = (out / "table.md").read_text()
     assert table.count("one.png") == 5 and "Hertzmann 1998 (Impressionist)" in table
-    sheet = io.read_image(out / "one_sheet.png")
+    sheet = reading.read_image(out / "one_sheet.png")
     assert sheet.shape[0] > 2 * 48 and sheet.shape[1] > 4 * 64  # two rows of four panels
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from core.cli import main
-from core.files import io
+from core.files import reading, writing
 from core.files.export import (
     HEIGHT_DIGEST_ATTR,
     NORMAL_FILE,
@@ -25,7 +25,7 @@ def painted(tmp_path_factory):
     rng = np.random.default_rng(8)
     image = np.clip(np.linspace(0.2, 0.8, 80)[None, :, None] + rng.normal(0, 0.05, (60, 80, 3)), 0, 1)
     photo = tmp_path_factory.mktemp("input") / "photo.png"
-    io.write_png(photo, image.astype(np.float32))
+    writing.write_png(photo, image.astype(np.float32))
     plain, with_normals = tmp_path_factory.mktemp("plain"), tmp_path_factory.mktemp("normals")
     assert main(["paint", str(photo), "-o", str(plain), "-q", "--seed", "4"]) == 0
     assert main(["paint", str(photo), "-o", str(with_normals), "-q", "--seed", "4", "--normal-map"]) == 0
@@ -35,12 +35,12 @@ def painted(tmp_path_factory):
 def test_row_blocks_write_the_same_file_as_the_whole_array(tmp_path, monkeypatch):
     rng = np.random.default_rng(1)
     data = rng.random((70, 33, 3), dtype=np.float32)
-    io.write_exr(tmp_path / "whole.exr", data, half=True)
-    io.write_png(tmp_path / "whole.png", data)
-    monkeypatch.setattr(io, "BLOCK_PIXELS", 16 * 33)          # 16 rows a block: five blocks, the last short
-    blocks = io.RowBlocks(data.shape, lambda y0, y1: data[y0:y1])
-    io.write_exr(tmp_path / "blocks.exr", blocks, half=True)
-    io.write_png(tmp_path / "blocks.png", blocks)
+    writing.write_exr(tmp_path / "whole.exr", data, half=True)
+    writing.write_png(tmp_path / "whole.png", data)
+    monkeypatch.setattr(writing, "BLOCK_PIXELS", 16 * 33)          # 16 rows a block: five blocks, the last short
+    blocks = writing.RowBlocks(data.shape, lambda y0, y1: data[y0:y1])
+    writing.write_exr(tmp_path / "blocks.exr", blocks, half=True)
+    writing.write_png(tmp_path / "blocks.png", blocks)
     for ext in ("exr", "png"):
         assert (tmp_path / f"whole.{ext}").read_bytes() == (tmp_path / f"blocks.{ext}").read_bytes()
 
@@ -50,7 +50,7 @@ def test_rows_that_need_their_neighbours_come_out_as_computed_whole(monkeypatch)
     colour = rng.random((50, 40, 3), dtype=np.float32)
     height = rng.random((50, 40), dtype=np.float32)
     orientation = rng.uniform(0, np.pi, (50, 40)).astype(np.float32)
-    monkeypatch.setattr(io, "BLOCK_PIXELS", 16 * 40)
+    monkeypatch.setattr(writing, "BLOCK_PIXELS", 16 * 40)
     for compute, whole, halo in (
             (lambda a, b: paper_lighting(colour[a:b], height[a:b], orientation[a:b]),
              paper_lighting(colour, height, orientation), 2),
@@ -66,10 +66,10 @@ def test_the_normal_map_is_written_only_when_asked(painted):
     assert NORMAL_FILE not in json.loads((plain / "report.json").read_text())["files"]
     report = json.loads((with_normals / "report.json").read_text())
     assert report["files"][NORMAL_FILE] == file_digest(with_normals / NORMAL_FILE)
-    normals, channels, attributes = io.read_exr(with_normals / NORMAL_FILE)
+    normals, channels, attributes = reading.read_exr(with_normals / NORMAL_FILE)
     assert channels == ["R", "G", "B"]
     assert attributes[HEIGHT_DIGEST_ATTR] == report["files"]["height.exr"]["sha256"]
-    height = io.read_exr(with_normals / "height.exr")[0][:, :, 0]
+    height = reading.read_exr(with_normals / "height.exr")[0][:, :, 0]
     np.testing.assert_allclose(normals, encode_normals(normal_map(height, DEFAULT_RELIEF)), atol=2e-3)  # half floats
 
 
@@ -84,10 +84,10 @@ def test_a_normal_map_is_made_for_the_height_map_it_belongs_to(painted, tmp_path
     assert made.read_bytes() == (with_normals / NORMAL_FILE).read_bytes()   # as the painter writes it
     stamp = made.stat().st_mtime_ns
     assert ensure_normal_map(folder).stat().st_mtime_ns == stamp            # the same height map: kept
-    height, _, attributes = io.read_exr(folder / "height.exr")
+    height, _, attributes = reading.read_exr(folder / "height.exr")
     kept = painting_attributes(attributes)
-    io.write_exr(folder / "height.exr", height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
-    remade = io.read_exr(ensure_normal_map(folder))[0]                       # painted again: made again
+    writing.write_exr(folder / "height.exr", height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
+    remade = reading.read_exr(ensure_normal_map(folder))[0]                       # painted again: made again
     np.testing.assert_allclose(remade, encode_normals(normal_map(height[::-1, :, 0], DEFAULT_RELIEF)), atol=2e-3)
 
 

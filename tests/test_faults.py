@@ -30,7 +30,7 @@ from addon_values import values
 from core.api import paint_file
 from core.cli import main
 from core.errors import InputError
-from core.files import io
+from core.files import reading, writing
 from core.files.maps import check_maps, check_painting
 from core.files.staging import JOURNAL_NAME, STAGING_PREFIX, recover, settle
 from core.params import Params
@@ -102,11 +102,11 @@ def inputs(tmp_path_factory):
     """Good and bad input files, by name."""
     d = tmp_path_factory.mktemp("inputs")
     image = photo_array()
-    io.write_png(d / "photo.png", image)
-    io.write_exr(d / "photo.exr", image)
-    io.write_png(d / "photo16.png", image, bits=16)
-    io.write_png(d / "gray.png", image[..., 0])
-    io.write_png(d / "rgba.png", np.concatenate([image, np.full((32, 40, 1), 0.5, np.float32)], axis=2))
+    writing.write_png(d / "photo.png", image)
+    writing.write_exr(d / "photo.exr", image)
+    writing.write_png(d / "photo16.png", image, bits=16)
+    writing.write_png(d / "gray.png", image[..., 0])
+    writing.write_png(d / "rgba.png", np.concatenate([image, np.full((32, 40, 1), 0.5, np.float32)], axis=2))
     buf = oiio.ImageBuf(oiio.ImageSpec(40, 32, 2, "uint8"))
     buf.set_pixels(oiio.ROI(), (np.stack([image[..., 0], np.ones((32, 40))], axis=2) * 255).astype(np.uint8))
     buf.write(str(d / "gray_alpha.png"))
@@ -120,16 +120,16 @@ def inputs(tmp_path_factory):
     (d / "text.png").write_text("this is not a picture\n" * 20)
     nan = image.copy()
     nan[3, 4, 1] = np.nan
-    io.write_exr(d / "nan.exr", nan)
+    writing.write_exr(d / "nan.exr", nan)
     inf = image.copy()
     inf[5, 6, 0] = np.inf
-    io.write_exr(d / "inf.exr", inf)
+    writing.write_exr(d / "inf.exr", inf)
     (d / "a_folder.png").mkdir()
-    io.write_png(d / "square.png", np.full((100, 100, 3), 0.5, np.float32))
+    writing.write_png(d / "square.png", np.full((100, 100, 3), 0.5, np.float32))
     _bomb_png(d / "bomb.png", 7000, 7000)
     other = d / "other"
     other.mkdir()
-    io.write_png(other / "photo.png", photo_array(seed=9))
+    writing.write_png(other / "photo.png", photo_array(seed=9))
     return d
 
 
@@ -284,7 +284,7 @@ def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd
     """--sizes are px at 1 megapixel: 900 becomes a 75 px brush on a 96 x 72 image, taller than the image."""
     out, before = folder
     small = out.parent / "small.png"
-    io.write_png(small, photo_array(72, 96))
+    writing.write_png(small, photo_array(72, 96))
     t0 = time.monotonic()
     assert main(["paint", str(small), "-o", str(out), "-q", "--sizes", "900,64"]) == 2
     assert time.monotonic() - t0 < 1.0
@@ -395,13 +395,13 @@ def test_an_input_of_several_images_paints_the_first_and_says_so(inputs, tmp_pat
     if name.endswith(".png"):
         frames = [tmp_path / f"frame{i}.png" for i in range(pages)]
         for frame, data in zip(frames, [first] + others, strict=True):
-            io.write_png(frame, data)
+            writing.write_png(frame, data)
         _apng(source, frames)
     else:
         _multi_image(source, [first] + others)
     alone = tmp_path / ("alone" + Path(name).suffix)
     if name.endswith(".png"):
-        io.write_png(alone, first)
+        writing.write_png(alone, first)
     else:
         _multi_image(alone, [first])
     run = run_cli(["paint", source, "-o", tmp_path / "out", "-q", "--seed", "4"])
@@ -422,7 +422,7 @@ def test_large_seeds_are_stored_exactly(inputs, tmp_path, seed):
     assert check_painting(out) == str(seed)
     report = json.loads((out / "report.json").read_text())
     assert report["seed"] == seed and report["params"]["seed"] == seed
-    _, _, attributes = io.read_exr(out / "height.exr")
+    _, _, attributes = reading.read_exr(out / "height.exr")
     assert attributes["paint_relief:seed"] == str(seed)
     assert json.loads(attributes["paint_relief:params"])["seed"] == seed
 
@@ -582,7 +582,7 @@ def test_no_space_is_refused_before_painting_on_any_machine(inputs, folder, monk
     monkeypatch.setattr(core.methods.registry, "paint", lambda *a, **k: pytest.fail("painting started"))
     monkeypatch.setattr(shutil_module, "disk_usage", lambda path: shutil_module._ntuple_diskusage(1 << 30, 1 << 30,
                                                                                                   100 * 1024))
-    io.write_png(out.parent / "wide.png", np.full((400, 500, 3), 0.5, np.float32))
+    writing.write_png(out.parent / "wide.png", np.full((400, 500, 3), 0.5, np.float32))
     assert main(["paint", str(out.parent / "wide.png"), "-o", str(out), "-q"]) == 2
     err = capfd.readouterr().err
     assert_one_sentence(err, "not enough space", "100 KB free", "586 KB")
@@ -685,7 +685,7 @@ def big_photo(tmp_path_factory):
     from common import photo
 
     path = tmp_path_factory.mktemp("big") / "big.png"
-    io.write_png(path, photo(0.25))
+    writing.write_png(path, photo(0.25))
     return path
 
 
@@ -833,7 +833,7 @@ def test_experiments_refuse_a_bad_image_before_any_work(inputs, tmp_path, capfd)
 # --- maps before Blender ------------------------------------------------------------------------------------------
 
 def _break(folder: Path, kind: str):
-    height, channels, attributes = io.read_exr(folder / "height.exr")
+    height, channels, attributes = reading.read_exr(folder / "height.exr")
     keep = {k: v for k, v in attributes.items() if k.startswith("paint_relief:") and k != "paint_relief:channel_order"}
     if kind == "truncated":
         data = (folder / "height.exr").read_bytes()
@@ -842,17 +842,17 @@ def _break(folder: Path, kind: str):
         (folder / "height.exr").write_bytes(b"")
     elif kind == "nan":
         height[2, 3, 0] = np.nan
-        io.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
+        writing.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
     elif kind == "inf":
         height[2, 3, 0] = np.inf
-        io.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
+        writing.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
     elif kind == "channels":
-        io.write_exr(folder / "height.exr", np.repeat(height, 3, axis=2), attributes=keep)
+        writing.write_exr(folder / "height.exr", np.repeat(height, 3, axis=2), attributes=keep)
     elif kind == "size":
-        io.write_exr(folder / "height.exr", height[:-1], channels=("Y",), attributes=keep)
+        writing.write_exr(folder / "height.exr", height[:-1], channels=("Y",), attributes=keep)
     elif kind == "other_painting":
         keep["paint_relief:seed"] = "99"
-        io.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
+        writing.write_exr(folder / "height.exr", height, channels=("Y",), attributes=keep)
     elif kind == "missing":
         (folder / "height.exr").unlink()
     elif kind == "text":

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from core.cli import main
-from core.files import io
+from core.files import reading, writing
 
 REPO = Path(__file__).resolve().parent.parent
 HELPER = REPO / "tests" / "blender" / "map_checks.py"
@@ -27,16 +27,16 @@ FAULTS = ("truncated_height", "truncated_color", "nan_height", "inf_color", "sma
 def _broken(folder: Path, fault: str) -> None:
     kind, name = fault.split("_")
     path = folder / f"{name}.exr"
-    data, channels, attributes = io.read_exr(path)
+    data, channels, attributes = reading.read_exr(path)
     keep = {k: v for k, v in attributes.items() if k in ("paint_relief:seed", "paint_relief:params")}
     if kind == "truncated":
         raw = path.read_bytes()
         path.write_bytes(raw[: len(raw) // 2])
     elif kind in ("nan", "inf"):
         data[1, 2, 0] = np.nan if kind == "nan" else np.inf
-        io.write_exr(path, data, channels=channels, attributes=keep)
+        writing.write_exr(path, data, channels=channels, attributes=keep)
     elif kind == "small":
-        io.write_exr(path, data[:-2, :-2], channels=channels, attributes=keep)
+        writing.write_exr(path, data[:-2, :-2], channels=channels, attributes=keep)
 
 
 @pytest.fixture(scope="module")
@@ -46,7 +46,7 @@ def results(tmp_path_factory):
     work = tmp_path_factory.mktemp("maps")
     rng = np.random.default_rng(2)
     photo = work.parent / "maps_photo.png"
-    io.write_png(photo, rng.random((24, 32, 3)).astype(np.float32))
+    writing.write_png(photo, rng.random((24, 32, 3)).astype(np.float32))
     assert main(["paint", str(photo), "-o", str(work / "good"), "-q"]) == 0
     for fault in FAULTS:
         shutil.copytree(work / "good", work / fault)

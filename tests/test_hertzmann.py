@@ -9,7 +9,7 @@ import pytest
 
 from core.cli import main
 from core.errors import ParameterError
-from core.files import io
+from core.files import writing
 from core.methods import paint
 from core.methods.hertzmann98 import paint_hertzmann, scaled_radii
 from core.methods.styles import STYLES, get_style
@@ -181,7 +181,7 @@ def test_invalid_names(field, value, words):
 @pytest.fixture(scope="module")
 def photo(tmp_path_factory):
     path = tmp_path_factory.mktemp("hz") / "photo.png"
-    io.write_png(path, textured(48, 64))
+    writing.write_png(path, textured(48, 64))
     return path
 
 

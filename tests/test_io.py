@@ -1,4 +1,4 @@
-"""Tests of core.files.io: image reading, EXR/PNG/JSON writing, errors and atomic writes."""
+"""Tests of core.files.reading and core.files.writing: image reading, EXR/PNG/JSON writing, errors and atomic writes."""
 
 from __future__ import annotations
 
@@ -11,13 +11,13 @@ import pytest
 
 from core.colour import luminance
 from core.errors import InputError, OutputError
-from core.files import io
+from core.files import reading, writing
 
 CANVAS = (0.93, 0.90, 0.84)
 
 
 def oiio_write(path, pixels, fmt=None, names=None, attrs=None):
-    """Write ``pixels`` (H, W, C) with OpenImageIO directly (not through core.files.io)."""
+    """Write ``pixels`` (H, W, C) with OpenImageIO directly (not through core.files.writing)."""
     pixels = np.ascontiguousarray(pixels)
     h, w, c = pixels.shape
     spec = oiio.ImageSpec(w, h, c, fmt or str(pixels.dtype))
@@ -54,8 +54,8 @@ def test_exr_float_round_trip_exact(tmp_path, channels):
     attrs = {"paint_relief:params": json.dumps({"detail": 0.5}), "paint_relief:seed": 7,
              "paint_relief:version": "0.1.0", "paint_relief:scale": 0.25}
     path = tmp_path / "map.exr"
-    io.write_exr(path, data, attributes=attrs)
-    back, names, header = io.read_exr(path)
+    writing.write_exr(path, data, attributes=attrs)
+    back, names, header = reading.read_exr(path)
     assert back.dtype == np.float32 and back.shape == data.shape
     np.testing.assert_array_equal(back, data)
     assert names == list({1: "Y", 3: "RGB", 4: "RGBA"}[channels])
@@ -65,32 +65,32 @@ def test_exr_float_round_trip_exact(tmp_path, channels):
 
 def test_exr_2d_input_reads_back_3d(tmp_path):
     data = rng_image(c=1)[:, :, 0]
-    io.write_exr(tmp_path / "h.exr", data)
-    back, names, _ = io.read_exr(tmp_path / "h.exr")
+    writing.write_exr(tmp_path / "h.exr", data)
+    back, names, _ = reading.read_exr(tmp_path / "h.exr")
     assert back.shape == data.shape + (1,) and names == ["Y"]
     np.testing.assert_array_equal(back[:, :, 0], data)
 
 
 def test_exr_custom_channel_names_keep_their_order(tmp_path):
     data = rng_image(c=3)
-    io.write_exr(tmp_path / "m.exr", data, channels=("height", "coverage", "opacity"))
-    back, names, _ = io.read_exr(tmp_path / "m.exr")
+    writing.write_exr(tmp_path / "m.exr", data, channels=("height", "coverage", "opacity"))
+    back, names, _ = reading.read_exr(tmp_path / "m.exr")
     assert names == ["height", "coverage", "opacity"]
     np.testing.assert_array_equal(back, data)
 
 
 def test_exr_half_round_trip(tmp_path):
     data = rng_image(c=3) * 4 - 1
-    io.write_exr(tmp_path / "half.exr", data, half=True)
-    back, _, _ = io.read_exr(tmp_path / "half.exr")
+    writing.write_exr(tmp_path / "half.exr", data, half=True)
+    back, _, _ = reading.read_exr(tmp_path / "half.exr")
     np.testing.assert_array_equal(back, data.astype(np.float16).astype(np.float32))
 
 
 def test_exr_bytes_are_deterministic(tmp_path):
     data = rng_image(c=4)
     attrs = {"paint_relief:seed": 3, "paint_relief:params": "{}"}
-    io.write_exr(tmp_path / "a.exr", data, attributes=attrs)
-    io.write_exr(tmp_path / "b.exr", data, attributes=attrs)
+    writing.write_exr(tmp_path / "a.exr", data, attributes=attrs)
+    writing.write_exr(tmp_path / "b.exr", data, attributes=attrs)
     assert (tmp_path / "a.exr").read_bytes() == (tmp_path / "b.exr").read_bytes()
     assert b"DateTime" not in (tmp_path / "a.exr").read_bytes()
 
@@ -103,15 +103,15 @@ def test_png_round_trip_exact(tmp_path, bits):
     maxval = 2 ** bits - 1
     k = np.random.default_rng(1).integers(0, maxval + 1, size=(9, 11, 3))
     data = k.astype(np.float32) / np.float32(maxval)
-    io.write_png(tmp_path / "p.png", data, bits=bits)
-    back = io.read_image(tmp_path / "p.png")
+    writing.write_png(tmp_path / "p.png", data, bits=bits)
+    back = reading.read_image(tmp_path / "p.png")
     assert back.dtype == np.float32 and back.shape == data.shape
     np.testing.assert_array_equal(back, data)
 
 
 def test_png_rgba_stores_straight_alpha(tmp_path):
     data = np.array([[[0.8, 0.4, 0.2, 0.5], [1.0, 1.0, 1.0, 0.0]]], np.float32)
-    io.write_png(tmp_path / "s.png", data)
+    writing.write_png(tmp_path / "s.png", data)
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
     inp = oiio.ImageInput.open(str(tmp_path / "s.png"), config)
@@ -122,16 +122,16 @@ def test_png_rgba_stores_straight_alpha(tmp_path):
 
 def test_png_quantises_with_rounding_and_clipping(tmp_path):
     data = np.array([[0.0, 0.5 / 255, 0.49 / 255, 1.7 / 255, -0.3, 1.4]], dtype=np.float32)
-    io.write_png(tmp_path / "q.png", data)
-    back = io.read_gray(tmp_path / "q.png")
+    writing.write_png(tmp_path / "q.png", data)
+    back = reading.read_gray(tmp_path / "q.png")
     np.testing.assert_array_equal(np.round(back * 255), [[0, 1, 0, 2, 0, 255]])
 
 
 def test_png_bytes_are_deterministic(tmp_path):
     data = rng_image(c=4)
     for bits in (8, 16):
-        io.write_png(tmp_path / "a.png", data, bits=bits)
-        io.write_png(tmp_path / "b.png", data, bits=bits)
+        writing.write_png(tmp_path / "a.png", data, bits=bits)
+        writing.write_png(tmp_path / "b.png", data, bits=bits)
         assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
 
 
@@ -141,15 +141,15 @@ def test_png_bytes_are_deterministic(tmp_path):
 def test_read_8bit_and_16bit(tmp_path):
     k8 = np.random.default_rng(2).integers(0, 256, size=(5, 7, 3)).astype(np.uint8)
     k16 = np.random.default_rng(3).integers(0, 65536, size=(5, 7, 3)).astype(np.uint16)
-    a = io.read_image(oiio_write(tmp_path / "a.png", k8))
-    b = io.read_image(oiio_write(tmp_path / "b.png", k16))
+    a = reading.read_image(oiio_write(tmp_path / "a.png", k8))
+    b = reading.read_image(oiio_write(tmp_path / "b.png", k16))
     np.testing.assert_array_equal(a, k8.astype(np.float32) / np.float32(255))
     np.testing.assert_array_equal(b, k16.astype(np.float32) / np.float32(65535))
 
 
 def test_read_gray_is_replicated(tmp_path):
     k = np.arange(20, dtype=np.uint8).reshape(4, 5, 1) * 10
-    img = io.read_image(oiio_write(tmp_path / "g.png", k))
+    img = reading.read_image(oiio_write(tmp_path / "g.png", k))
     assert img.shape == (4, 5, 3)
     for c in range(3):
         np.testing.assert_array_equal(img[:, :, c], k[:, :, 0] / np.float32(255))
@@ -159,7 +159,7 @@ def test_read_gray_alpha_composites_over_canvas(tmp_path):
     k = np.zeros((2, 2, 2), np.uint8)
     k[..., 0] = 200
     k[..., 1] = [[0, 255], [255, 0]]
-    img = io.read_image(oiio_write(tmp_path / "ga.png", k))
+    img = reading.read_image(oiio_write(tmp_path / "ga.png", k))
     np.testing.assert_allclose(img[0, 0], CANVAS, atol=1e-6)
     np.testing.assert_allclose(img[0, 1], [200 / 255] * 3, atol=1e-6)
 
@@ -168,12 +168,12 @@ def test_read_rgba_composites_over_canvas(tmp_path):
     k = np.zeros((1, 3, 4), np.uint8)
     k[0, :, :3] = [[10, 120, 250], [10, 120, 250], [200, 100, 0]]
     k[0, :, 3] = [0, 255, 128]
-    img = io.read_image(oiio_write(tmp_path / "rgba.png", k))
+    img = reading.read_image(oiio_write(tmp_path / "rgba.png", k))
     np.testing.assert_allclose(img[0, 0], CANVAS, atol=1e-6)
     np.testing.assert_allclose(img[0, 1], np.array([10, 120, 250]) / 255, atol=1e-6)
     a = 128 / 255
     np.testing.assert_allclose(img[0, 2], np.array([200, 100, 0]) / 255 * a + np.array(CANVAS) * (1 - a), atol=1e-5)
-    white = io.read_image(tmp_path / "rgba.png", canvas_colour=(1, 1, 1))
+    white = reading.read_image(tmp_path / "rgba.png", canvas_colour=(1, 1, 1))
     np.testing.assert_allclose(white[0, 0], [1, 1, 1], atol=1e-6)
 
 
@@ -181,26 +181,26 @@ def test_read_more_than_four_channels_takes_rgba(tmp_path):
     k = np.full((2, 2, 5), 0.5, np.float32)
     k[..., 3] = 1.0
     k[..., 4] = 0.0
-    img = io.read_image(oiio_write(tmp_path / "five.tif", k, "float"))
+    img = reading.read_image(oiio_write(tmp_path / "five.tif", k, "float"))
     np.testing.assert_allclose(img, 0.5, atol=1e-6)
 
 
 def test_read_tiff_and_jpeg(tmp_path):
     k = np.random.default_rng(4).integers(0, 65536, size=(6, 8, 3)).astype(np.uint16)
-    tif = io.read_image(oiio_write(tmp_path / "t.tif", k))
+    tif = reading.read_image(oiio_write(tmp_path / "t.tif", k))
     np.testing.assert_array_equal(tif, k.astype(np.float32) / np.float32(65535))
     smooth = np.zeros((32, 32, 3), np.uint8)
     smooth[..., 0] = 180
     smooth[..., 1] = 90
     smooth[..., 2] = 30
-    jpg = io.read_image(oiio_write(tmp_path / "j.jpg", smooth))
+    jpg = reading.read_image(oiio_write(tmp_path / "j.jpg", smooth))
     np.testing.assert_allclose(jpg, smooth / 255.0, atol=3 / 255)
 
 
 def test_read_linear_exr_gives_srgb(tmp_path):
     lin = np.full((3, 4, 3), 0.2140, np.float32)
     lin[0, 0] = [0.0, 1.0, 5.0]
-    img = io.read_image(oiio_write(tmp_path / "lin.exr", lin, "float"))
+    img = reading.read_image(oiio_write(tmp_path / "lin.exr", lin, "float"))
     np.testing.assert_allclose(img[1, 1], [0.5, 0.5, 0.5], atol=1e-3)
     np.testing.assert_allclose(img[0, 0], [0.0, 1.0, 1.0], atol=1e-6)
 
@@ -208,7 +208,7 @@ def test_read_linear_exr_gives_srgb(tmp_path):
 def test_read_premultiplied_exr_alpha(tmp_path):
     # EXR stores premultiplied colour: linear 0.2140 at alpha 0.5 is stored as 0.1070.
     px = np.array([[[0.1070, 0.1070, 0.1070, 0.5]]], np.float32)
-    img = io.read_image(oiio_write(tmp_path / "a.exr", px, "float"))
+    img = reading.read_image(oiio_write(tmp_path / "a.exr", px, "float"))
     np.testing.assert_allclose(img[0, 0], 0.5 * 0.5 + 0.5 * np.array(CANVAS), atol=1e-3)
 
 
@@ -216,19 +216,19 @@ def test_read_gray_luminance_and_alpha(tmp_path):
     k = np.zeros((1, 2, 4), np.uint8)
     k[0, :, :3] = [[255, 0, 0], [30, 160, 220]]
     k[0, :, 3] = [255, 0]
-    g = io.read_gray(oiio_write(tmp_path / "m.png", k))
+    g = reading.read_gray(oiio_write(tmp_path / "m.png", k))
     assert g.shape == (1, 2) and g.dtype == np.float32
     assert g[0, 0] == pytest.approx(0.2126, abs=1e-6)
     assert g[0, 1] == 0.0
     rgb = k[..., :3].astype(np.float32) / 255
-    g2 = io.read_gray(oiio_write(tmp_path / "m.jpg", np.repeat(np.repeat(k[..., :3], 8, 0), 8, 1)))
+    g2 = reading.read_gray(oiio_write(tmp_path / "m.jpg", np.repeat(np.repeat(k[..., :3], 8, 0), 8, 1)))
     assert g2.shape == (8, 16)
     assert g2[4, 12] == pytest.approx(float(luminance(rgb[0, 1])), abs=0.03)
 
 
 def test_read_gray_of_gray_png(tmp_path):
     k = (np.arange(12, dtype=np.uint16).reshape(3, 4, 1) * 5000)
-    g = io.read_gray(oiio_write(tmp_path / "g16.png", k))
+    g = reading.read_gray(oiio_write(tmp_path / "g16.png", k))
     np.testing.assert_array_equal(g, k[:, :, 0].astype(np.float32) / np.float32(65535))
 
 
@@ -274,7 +274,7 @@ def bad_inputs(tmp_path):
     }
 
 
-@pytest.mark.parametrize("reader", [io.read_image, io.read_gray, io.read_exr])
+@pytest.mark.parametrize("reader", [reading.read_image, reading.read_gray, reading.read_exr])
 @pytest.mark.parametrize("case", ["missing", "folder", "text", "empty", "truncated png",
                                   "truncated jpeg", "nan", "inf"])
 def test_bad_inputs_raise_input_error(tmp_path, reader, case):
@@ -286,29 +286,29 @@ def test_bad_inputs_raise_input_error(tmp_path, reader, case):
 
 def test_missing_and_folder_messages(tmp_path):
     with pytest.raises(InputError, match="does not exist"):
-        io.read_image(tmp_path / "nope.png")
+        reading.read_image(tmp_path / "nope.png")
     with pytest.raises(InputError, match="folder"):
-        io.read_image(tmp_path)
+        reading.read_image(tmp_path)
     (tmp_path / "zero.exr").write_bytes(b"")
     with pytest.raises(InputError, match="empty"):
-        io.read_exr(tmp_path / "zero.exr")
+        reading.read_exr(tmp_path / "zero.exr")
 
 
 def test_pixel_limit(tmp_path):
     path = good_png(tmp_path / "big.png", size=(20, 20))
-    for reader in (io.read_image, io.read_gray):
+    for reader in (reading.read_image, reading.read_gray):
         with pytest.raises(InputError) as exc_info:
             reader(path, max_megapixels=0.0001)
         assert_one_sentence(exc_info, path)
         assert "megapixels" in str(exc_info.value)
-    assert io.read_image(path, max_megapixels=0.0004).shape == (20, 20, 3)
+    assert reading.read_image(path, max_megapixels=0.0004).shape == (20, 20, 3)
 
 
 # --- output folders and atomic writes -----------------------------------------
 
 
 def test_ensure_output_dir_creates_parents(tmp_path):
-    folder = io.ensure_output_dir(tmp_path / "a" / "b")
+    folder = writing.ensure_output_dir(tmp_path / "a" / "b")
     assert folder.is_dir() and list(folder.iterdir()) == []
 
 
@@ -316,7 +316,7 @@ def test_ensure_output_dir_under_a_file(tmp_path):
     blocker = tmp_path / "file.txt"
     blocker.write_text("x")
     with pytest.raises(OutputError) as exc_info:
-        io.ensure_output_dir(blocker / "out")
+        writing.ensure_output_dir(blocker / "out")
     assert_one_sentence(exc_info, blocker / "out")
     assert str(exc_info.value).startswith("Cannot write to output folder")
 
@@ -328,14 +328,14 @@ def test_ensure_output_dir_read_only(tmp_path):
     folder.chmod(0o500)
     try:
         with pytest.raises(OutputError):
-            io.ensure_output_dir(folder)
+            writing.ensure_output_dir(folder)
     finally:
         folder.chmod(0o700)
 
 
 def test_atomic_path_names_and_replace(tmp_path):
     target = tmp_path / "color.exr"
-    with io.atomic_path(target) as temp:
+    with writing.atomic_path(target) as temp:
         assert temp.parent == tmp_path and temp.suffix == ".exr" and temp.name.startswith(".color.tmp-")
         temp.write_bytes(b"new")
         assert not target.exists()
@@ -347,7 +347,7 @@ def test_atomic_path_failure_keeps_old_file(tmp_path):
     target = tmp_path / "old.txt"
     target.write_bytes(b"good")
     with pytest.raises(RuntimeError):
-        with io.atomic_path(target) as temp:
+        with writing.atomic_path(target) as temp:
             temp.write_bytes(b"half")
             raise RuntimeError("boom")
     assert target.read_bytes() == b"good"
@@ -358,9 +358,9 @@ def test_atomic_path_failure_keeps_old_file(tmp_path):
 def test_failed_write_keeps_previous_file(tmp_path, monkeypatch, kind):
     target = tmp_path / f"out.{kind}"
     data = rng_image(c=3)
-    write = {"exr": lambda: io.write_exr(target, data),
-             "png": lambda: io.write_png(target, data),
-             "json": lambda: io.write_json(target, {"a": 1})}[kind]
+    write = {"exr": lambda: writing.write_exr(target, data),
+             "png": lambda: writing.write_png(target, data),
+             "json": lambda: writing.write_json(target, {"a": 1})}[kind]
     write()
     before = target.read_bytes()
 
@@ -390,7 +390,7 @@ def test_failed_write_keeps_previous_file(tmp_path, monkeypatch, kind):
             def close(self):
                 return self.out.close()
 
-        monkeypatch.setattr(io.oiio.ImageOutput, "create", staticmethod(lambda name: HalfWriter(name)))
+        monkeypatch.setattr(writing.oiio.ImageOutput, "create", staticmethod(lambda name: HalfWriter(name)))
     with pytest.raises(OutputError) as exc_info:
         write()
     assert_one_sentence(exc_info, target)
@@ -402,7 +402,7 @@ def test_failed_write_keeps_previous_file(tmp_path, monkeypatch, kind):
 def test_write_into_missing_folder_raises_output_error(tmp_path):
     target = tmp_path / "nowhere" / "x.exr"
     with pytest.raises(OutputError) as exc_info:
-        io.write_exr(target, rng_image())
+        writing.write_exr(target, rng_image())
     assert_one_sentence(exc_info, target)
 
 
@@ -411,7 +411,7 @@ def test_write_into_missing_folder_raises_output_error(tmp_path):
 
 def test_write_json_numpy_and_order(tmp_path):
     obj = {"b": np.float32(0.5), "a": np.arange(3), "n": np.int64(4), "nested": {"z": [np.bool_(True)]}}
-    io.write_json(tmp_path / "r.json", obj)
+    writing.write_json(tmp_path / "r.json", obj)
     text = (tmp_path / "r.json").read_text()
     assert text.endswith("}\n")
     assert list(json.loads(text)) == ["b", "a", "n", "nested"]
@@ -423,7 +423,7 @@ def test_exif_orientation_is_honoured(tmp_path):
     """A sideways JPEG (Orientation 6: shown turned 90 degrees clockwise) reads upright."""
     import OpenImageIO as oiio
 
-    from core.files.io import read_image, upright
+    from core.files.reading import read_image, upright
 
     stored = np.zeros((20, 40, 3), np.uint8)
     stored[:, :20] = (255, 0, 0)   # left half red

@@ -14,7 +14,7 @@ import pytest
 from core.cli import main
 from core.colour import linear_to_srgb, srgb_to_linear
 from core.errors import ParameterError
-from core.files import io
+from core.files import reading, writing
 from core.lighting import models as lighting
 
 H, W = 12, 16
@@ -230,7 +230,7 @@ def painted(tmp_path_factory):
     image[..., 2] = 0.5
     image[:, 28:] = rng.random((40, 28, 3))
     source = tmp_path_factory.mktemp("input") / "small.png"
-    io.write_png(source, image)
+    writing.write_png(source, image)
     out = tmp_path_factory.mktemp("painted")
     assert main(["paint", str(source), "-o", str(out), "-q"]) == 0
     return out
@@ -239,11 +239,11 @@ def painted(tmp_path_factory):
 @pytest.mark.parametrize("model", lighting.MODELS)
 def test_light_cli_writes_each_model(painted, model):
     assert main(["light", str(painted), "--model", model, "-q"]) == 0
-    lit = io.read_image(painted / f"lit_{model}.png")
+    lit = reading.read_image(painted / f"lit_{model}.png")
     assert lit.shape == (40, 56, 3)
     if model == "paper":
         # The same as the lit_paper.png `paint` wrote, up to the EXR round trip and 8-bit rounding.
-        np.testing.assert_allclose(lit, io.read_image(painted / "lit_paper.png"), atol=2.5 / 255)
+        np.testing.assert_allclose(lit, reading.read_image(painted / "lit_paper.png"), atol=2.5 / 255)
 
 
 def test_light_cli_options(painted):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from stamp_oracle import engine_footprint, paint_one, resampled, stroke_footprint
 
-from core.files.io import read_image
+from core.files.reading import read_image
 from core.methods import paint
 from core.params import Params
 from core.strokes.brush import brush_tip, load_brush

@@ -17,7 +17,7 @@ from stamp_oracle import box_footprint, stroke_footprint
 from stamp_oracle import paint_one as engine_one
 
 from core.errors import PaintReliefError, ParameterError
-from core.files.io import read_image
+from core.files.reading import read_image
 from core.methods import paint
 from core.params import CANVAS_COLOUR, Params
 from core.strokes.brush import BrushTip, brush_tip, load_brush

@@ -186,7 +186,7 @@ def scaled_input(core, image, out_dir, size):
     import numpy as np
     import OpenImageIO as oiio
 
-    from_io = importlib.import_module(core.__name__ + ".files.io")
+    writing = importlib.import_module(core.__name__ + ".files.writing")
     h, w = image.shape[:2]
     scale = min(1.0, size / max(w, h))
     if scale < 1.0:
@@ -196,7 +196,7 @@ def scaled_input(core, image, out_dir, size):
         image = np.clip(resized.get_pixels(oiio.FLOAT), 0.0, 1.0).astype(np.float32)
     path = Path(out_dir) / "input.png"
     temp = path.with_name(".input.tmp-{}.png".format(os.getpid()))
-    from_io.write_png(temp, image, bits=16)
+    writing.write_png(temp, image, bits=16)
     changed = not (path.is_file() and path.read_bytes() == temp.read_bytes())
     os.replace(temp, path)
     return path, changed
@@ -226,7 +226,7 @@ def paint(core, args, photo, params, out_dir, log):
 
 
 def _map_size(painting_dir, core):
-    data = importlib.import_module(core.__name__ + ".files.io").read_exr(painting_dir / "height.exr")[0]
+    data = importlib.import_module(core.__name__ + ".files.reading").read_exr(painting_dir / "height.exr")[0]
     return data.shape[1], data.shape[0]
 
 
@@ -286,15 +286,16 @@ def main(argv, prog=None):
 
         package, where = load_extension()
         core = importlib.import_module(package.__name__ + ".core")
-        core_io = importlib.import_module(core.__name__ + ".files.io")
+        reading = importlib.import_module(core.__name__ + ".files.reading")
+        writing = importlib.import_module(core.__name__ + ".files.writing")
         importlib.import_module(package.__name__ + ".addon.comparison.compare")
         log.say("    from {}".format(where))
         values = package.addon.values
         azimuths = values.sweep_azimuths(args.azimuths)
         values.check_render_names(azimuths)
         params = core.Params(seed=args.seed).validate()
-        photo = core_io.read_image(input_path, params.max_megapixels, params.canvas_colour)  # checked before any output
-        out_dir = Path(core_io.ensure_output_dir(args.output)).resolve()
+        photo = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)  # checked before any output
+        out_dir = Path(writing.ensure_output_dir(args.output)).resolve()
 
         log.step("paint", "Painting {} (longer side at most {} px) into {}".format(
             input_path, args.size, out_dir / "painting"))

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The painted canvas in the scene: maps, mesh, relief and material.
+"""The painted canvas in the scene: the object, its mesh and modifiers, and its relief switched on and off.
 
 The canvas is a plane in the XY plane facing +z, centred on the origin, of
 the chosen physical width (metres) and the painting's aspect; UV (0, 0) is
@@ -25,9 +25,8 @@ Relief, by displacement method:
     unconnected (the geometry carries the relief, and a connected output would
     add the same slopes again as bump) and the method is 'BUMP'.
 
-In both, a Bump node adds paint detail finer than the geometry and a canvas
-weave where the paint is thin, and roughness goes from glossy paint to matte
-bare canvas with the opacity.
+The maps come in as Blender images through ``maps``; the material's node
+tree is built in ``material``.
 """
 
 import os
@@ -35,6 +34,15 @@ import os
 import bpy
 
 from .. import values
+from .maps import CanvasError, load_maps, reload_images
+from .material import (
+    FINE_BUMP_STRENGTH,
+    canvas_material,
+    normal_strength,
+    own_images,
+    own_nodes,
+    set_material_displacement,
+)
 
 ROLE_KEY = "paint_relief_role"
 MAP_SIZE_KEY = "paint_relief_map_size"
@@ -42,21 +50,10 @@ MAP_SIZE_KEY = "paint_relief_map_size"
 PAINTING_DIR_KEY = "paint_relief_painting_dir"
 THICKNESS_KEY = "paint_relief_thickness"
 CANVAS_NAME = "Paint Relief Canvas"
-MATERIAL_NAME = "Paint Relief Canvas"
 DISPLACE_TEXTURE_NAME = "Paint Relief Height"
 SUBDIVISION_MODIFIER = "Paint Relief Subdivision"
 DISPLACE_MODIFIER = "Paint Relief Displace"
 
-# Paint thickness (metres) at which the Normal Map node's strength is 1 (the normal map's own relief).
-NORMAL_MAP_THICKNESS = 0.002
-# Roughness of fully covering paint and of bare canvas.
-PAINT_ROUGHNESS = 0.35
-CANVAS_ROUGHNESS = 0.8
-# Strength of the Bump node that adds detail finer than the displaced geometry.
-FINE_BUMP_STRENGTH = 0.3
-# Canvas weave: thread period (metres) and its height relative to the paint thickness.
-WEAVE_PERIOD = 0.0008
-WEAVE_HEIGHT = 0.05
 # Grid of the MESH method: one vertex per this many map pixels, at most this many vertices.
 PIXELS_PER_VERTEX = 2.0
 MAX_MESH_VERTICES = 300_000
@@ -64,13 +61,6 @@ MAX_MESH_VERTICES = 300_000
 ADAPTIVE_BASE_FACES = 16
 # Adaptive subdivision: dicing rate in pixels.
 ADAPTIVE_PIXEL_SIZE = 1.0
-
-# Scene-linear Rec.709 has had several names across Blender versions.
-_LINEAR_COLORSPACES = ("Linear Rec.709", "Linear", "Linear BT.709", "scene_linear")
-
-
-class CanvasError(Exception):
-    """A map cannot be used; the message is one sentence naming the file."""
 
 
 def find_role(scene, role):
@@ -122,86 +112,6 @@ def link_new_object(context, obj, select=False):
         context.view_layer.objects.active = obj
 
 
-def linear_colorspace_name():
-    """The name of scene-linear Rec.709 in this Blender's colour management configuration."""
-    items = bpy.types.ColorManagedInputColorspaceSettings.bl_rna.properties["name"].enum_items
-    available = {item.identifier for item in items}
-    for name in _LINEAR_COLORSPACES:
-        if name in available:
-            return name
-    raise CanvasError("Blender's colour configuration has no scene-linear Rec.709 colour space.")
-
-
-def load_maps(folder, names=values.CANVAS_MAPS):
-    """Load (or reload) the canvas maps ``names`` of a painted ``folder``; return {file name: image}.
-
-    Raises CanvasError naming the first missing or unreadable file; images this
-    call added are removed again then, so a failure leaves the file's data as
-    it was.
-    """
-    folder = os.path.normpath(bpy.path.abspath(folder))
-    paths = {name: os.path.join(folder, name) for name in names}
-    for name, path in paths.items():
-        if not os.path.isfile(path) and name != values.NORMAL_MAP:
-            raise CanvasError("Painted map {} does not exist; paint first or choose a painted folder.".format(path))
-    from ... import core
-
-    try:  # Blender only ever receives maps OpenImageIO read in full: finite, expected channels, equal sizes
-        core.check_maps(folder, values.CANVAS_MAPS)
-        if values.NORMAL_MAP in names:  # made from height.exr when the painter was not asked for it
-            core.ensure_normal_map(folder)
-            core.check_maps(folder, (values.HEIGHT_MAP, values.NORMAL_MAP))
-    except core.PaintReliefError as error:
-        raise CanvasError(str(error)) from None
-    before = set(bpy.data.images)
-    images = {}
-    try:
-        for name, path in paths.items():
-            try:
-                image = bpy.data.images.load(path, check_existing=True)
-            except RuntimeError as error:
-                raise CanvasError("Painted map {} cannot be read: {}.".format(path, str(error).strip().rstrip("."))) from None
-            if image not in before:
-                image.name = "Paint Relief " + name
-            else:
-                image.reload()
-            images[name] = image
-            if image.size[0] == 0 or image.size[1] == 0 or not image.has_data and not _loads(image):
-                raise CanvasError("Painted map {} cannot be read: not an image Blender can open.".format(path))
-        size = tuple(images[values.COLOR_MAP].size)
-        for name, image in images.items():
-            if tuple(image.size) != size:
-                raise CanvasError("Painted map {} is {} x {} px but {} is {} x {} px.".format(
-                    paths[name], image.size[0], image.size[1], values.COLOR_MAP, size[0], size[1]))
-    except CanvasError:
-        for image in set(bpy.data.images) - before:
-            bpy.data.images.remove(image)
-        raise
-    images[values.COLOR_MAP].colorspace_settings.name = linear_colorspace_name()
-    for name in (values.HEIGHT_MAP, values.OPACITY_MAP, values.NORMAL_MAP):
-        if name in images:
-            images[name].colorspace_settings.is_data = True
-    return images
-
-
-def _loads(image):
-    """True when the pixels of ``image`` can be read (forces a load)."""
-    try:
-        return len(image.pixels) > 0
-    except RuntimeError:
-        return False
-
-
-def map_height_range(image):
-    """(min, max) of a height map's first channel (float pixels in Blender's buffer)."""
-    import numpy as np
-
-    pixels = np.empty(len(image.pixels), dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    channel = pixels[:: image.channels]
-    return float(channel.min()), float(channel.max())
-
-
 # ---------------------------------------------------------------------------
 # mesh
 
@@ -222,220 +132,6 @@ def grid_mesh(name, nx, ny, width, height):
     mesh.update(calc_edges=True)
     mesh.validate()
     return mesh
-
-
-# ---------------------------------------------------------------------------
-# material
-
-
-def _link(tree, from_socket, to_socket):
-    tree.links.new(from_socket, to_socket)
-
-
-# Node names of the canvas material's own nodes; a rebuild updates these and leaves every other node alone.
-NODE_PREFIX = "Paint Relief "
-OWN_NODE_KEY = "paint_relief_node"
-
-
-def own_nodes(tree):
-    """{name: node} of the Paint Relief nodes of ``tree`` (marked by OWN_NODE_KEY)."""
-    return {node.name: node for node in tree.nodes if node.get(OWN_NODE_KEY)}
-
-
-def update_material(material, images, thickness, connect_displacement):
-    """Point an existing canvas material at new maps and thickness; True when its own nodes are all there.
-
-    User nodes and links are untouched. Returns False (changing nothing)
-    when some of the Paint Relief nodes are gone, so the caller builds them again.
-    """
-    tree = material.node_tree
-    nodes = own_nodes(tree) if tree is not None else {}
-    names = [NODE_PREFIX + name for name in ("Colour", "Height", "Opacity", "Bump", "Displacement", "Output")]
-    if not all(name in nodes for name in names):
-        return False
-    for name, key in (("Colour", values.COLOR_MAP), ("Height", values.HEIGHT_MAP), ("Opacity", values.OPACITY_MAP)):
-        nodes[NODE_PREFIX + name].image = images[key]
-    nodes[NODE_PREFIX + "Bump"].inputs["Distance"].default_value = thickness
-    displacement, output = nodes[NODE_PREFIX + "Displacement"], nodes[NODE_PREFIX + "Output"]
-    displacement.inputs["Scale"].default_value = thickness
-    linked = [l for l in output.inputs["Displacement"].links if l.from_node == displacement]
-    if connect_displacement and not linked:
-        tree.links.new(displacement.outputs["Displacement"], output.inputs["Displacement"])
-    elif not connect_displacement:
-        for link in linked:
-            tree.links.remove(link)
-    return True
-
-
-def _image_node(nodes, image, label, interpolation, location):
-    node = nodes.new("ShaderNodeTexImage")
-    node.image = image
-    node.label = label
-    node.interpolation = interpolation
-    node.extension = "EXTEND"
-    node.location = location
-    return node
-
-
-def _math_node(nodes, operation, location, label=""):
-    """A Math node doing ``operation`` at ``location``, with an optional label."""
-    node = nodes.new("ShaderNodeMath")
-    node.operation = operation
-    node.location = location
-    if label:
-        node.label = label
-    return node
-
-
-def _principled_input(node, *names):
-    """The first of ``names`` the Principled BSDF has (input names changed in Blender 4.0)."""
-    for name in names:
-        if name in node.inputs:
-            return node.inputs[name]
-    raise KeyError(names[0])
-
-
-def build_material(material, images, thickness, connect_displacement, normal_map=False):
-    """Fill ``material``'s node tree with the canvas shader; return the tree.
-
-    thickness: metres of paint of height 1. connect_displacement: link the
-    Displacement node to the material output (CYCLES_ADAPTIVE) or leave it
-    unconnected (MESH, where the geometry is displaced already). Earlier
-    Paint Relief nodes and Blender's default nodes are replaced; nodes the
-    user added stay. The nodes made here carry OWN_NODE_KEY, and the ones
-    :func:`update_material` needs are named NODE_PREFIX + role.
-    """
-    if material.node_tree is None:  # Blender 4.2 creates the tree only with use_nodes
-        material.use_nodes = True
-    tree = material.node_tree
-    nodes = tree.nodes
-    for node in list(nodes):
-        if node.get(OWN_NODE_KEY) or node.bl_idname in ("ShaderNodeBsdfPrincipled", "ShaderNodeOutputMaterial") \
-                and not material.get(OWN_NODE_KEY):
-            nodes.remove(node)
-    material[OWN_NODE_KEY] = True
-    before = set(nodes)
-
-    uv = nodes.new("ShaderNodeTexCoord")
-    uv.location = (-1300, 0)
-    color = _image_node(nodes, images[values.COLOR_MAP], "Colour", "Linear", (-1000, 400))
-    height = _image_node(nodes, images[values.HEIGHT_MAP], "Height", "Cubic", (-1000, -300))
-    opacity = _image_node(nodes, images[values.OPACITY_MAP], "Opacity", "Linear", (-1000, 50))
-    for node in (color, height, opacity):
-        _link(tree, uv.outputs["UV"], node.inputs["Vector"])
-
-    bsdf = nodes.new("ShaderNodeBsdfPrincipled")
-    bsdf.location = (-100, 300)
-    output = nodes.new("ShaderNodeOutputMaterial")
-    output.location = (300, 200)
-    _link(tree, bsdf.outputs["BSDF"], output.inputs["Surface"])
-    _link(tree, color.outputs["Color"], bsdf.inputs["Base Color"])
-
-    # Glossy where the paint covers, matte bare canvas where it does not.
-    roughness = nodes.new("ShaderNodeMapRange")
-    roughness.label = "Roughness from opacity"
-    roughness.location = (-600, 150)
-    roughness.inputs["To Min"].default_value = CANVAS_ROUGHNESS
-    roughness.inputs["To Max"].default_value = PAINT_ROUGHNESS
-    roughness.clamp = True
-    _link(tree, opacity.outputs["Color"], roughness.inputs["Value"])
-    _link(tree, roughness.outputs["Result"], bsdf.inputs["Roughness"])
-
-    # Canvas weave: two perpendicular sine bands, multiplied, shown where paint is thin.
-    weave_x = nodes.new("ShaderNodeTexWave")
-    weave_y = nodes.new("ShaderNodeTexWave")
-    for node, axis, y in ((weave_x, "X", -600), (weave_y, "Y", -800)):
-        node.wave_type = "BANDS"
-        node.bands_direction = axis
-        node.wave_profile = "SIN"
-        node.inputs["Scale"].default_value = values.wave_scale_for_period(WEAVE_PERIOD)
-        node.inputs["Distortion"].default_value = 0.0
-        node.location = (-1000, y)
-        _link(tree, uv.outputs["Object"], node.inputs["Vector"])
-    weave = _math_node(nodes, "MULTIPLY", (-750, -650), "Weave")
-    _link(tree, weave_x.outputs["Fac"], weave.inputs[0])
-    _link(tree, weave_y.outputs["Fac"], weave.inputs[1])
-    bare = _math_node(nodes, "SUBTRACT", (-750, -450), "Bare canvas (1 - opacity)")
-    bare.inputs[0].default_value = 1.0
-    _link(tree, opacity.outputs["Color"], bare.inputs[1])
-    weave_bare = _math_node(nodes, "MULTIPLY", (-550, -550))
-    _link(tree, weave.outputs["Value"], weave_bare.inputs[0])
-    _link(tree, bare.outputs["Value"], weave_bare.inputs[1])
-    surface = _math_node(nodes, "MULTIPLY_ADD", (-350, -400), "Paint + weave height")
-    surface.inputs[1].default_value = WEAVE_HEIGHT
-    _link(tree, weave_bare.outputs["Value"], surface.inputs[0])
-    _link(tree, height.outputs["Color"], surface.inputs[2])
-
-    bump = nodes.new("ShaderNodeBump")
-    bump.location = (-350, -150)
-    bump.inputs["Strength"].default_value = FINE_BUMP_STRENGTH
-    bump.inputs["Distance"].default_value = thickness
-    _link(tree, surface.outputs["Value"], bump.inputs["Height"])
-    if normal_map:
-        # The painter's tangent-space normals (normal.exr) shade a flat plane; the weave bump stacks on top.
-        normal_image = _image_node(nodes, images[values.NORMAL_MAP], "Normal", "Linear", (-1000, -1050))
-        _link(tree, uv.outputs["UV"], normal_image.inputs["Vector"])
-        normal = nodes.new("ShaderNodeNormalMap")
-        normal.location = (-600, -1000)
-        normal.space = "TANGENT"
-        normal.uv_map = "UVMap"
-        normal.inputs["Strength"].default_value = normal_strength(thickness)
-        normal.name = NODE_PREFIX + "Normal Map"
-        _link(tree, normal_image.outputs["Color"], normal.inputs["Color"])
-        _link(tree, normal.outputs["Normal"], bump.inputs["Normal"])
-        bump.inputs["Strength"].default_value = 0.0 if thickness <= 0 else FINE_BUMP_STRENGTH
-    _link(tree, bump.outputs["Normal"], bsdf.inputs["Normal"])
-
-    displacement = nodes.new("ShaderNodeDisplacement")
-    displacement.location = (0, -250)
-    displacement.space = "OBJECT"
-    displacement.inputs["Midlevel"].default_value = 0.0
-    displacement.inputs["Scale"].default_value = thickness
-    _link(tree, height.outputs["Color"], displacement.inputs["Height"])
-    if connect_displacement:
-        _link(tree, displacement.outputs["Displacement"], output.inputs["Displacement"])
-    for node, name in ((color, "Colour"), (height, "Height"), (opacity, "Opacity"), (bump, "Bump"),
-                       (displacement, "Displacement"), (output, "Output"), (bsdf, "BSDF")):
-        node.name = NODE_PREFIX + name
-    for node in set(nodes) - before:
-        node[OWN_NODE_KEY] = True
-    output.is_active_output = True
-    return tree
-
-
-def normal_strength(thickness):
-    """Strength of the Normal Map node for paint ``thickness`` metres thick (1 at NORMAL_MAP_THICKNESS)."""
-    return max(0.0, thickness / NORMAL_MAP_THICKNESS)
-
-
-def set_thickness(obj, thickness):
-    """Give a built canvas paint ``thickness`` metres thick at once: modifier, Displacement, Bump, Normal Map.
-
-    Only the extension's own nodes change (a user's Bump or Displacement keeps
-    its values). Leaves the canvas's relief switched on, as built; nothing else changes.
-    """
-    obj[THICKNESS_KEY] = float(thickness)
-    modifier = obj.modifiers.get(DISPLACE_MODIFIER)
-    if modifier is not None:
-        modifier.strength = thickness
-    material = obj.active_material
-    if material is None or material.node_tree is None:
-        return
-    for node in own_nodes(material.node_tree).values():
-        if node.bl_idname == "ShaderNodeDisplacement":
-            node.inputs["Scale"].default_value = thickness
-        elif node.bl_idname == "ShaderNodeBump":
-            node.inputs["Distance"].default_value = thickness
-        elif node.bl_idname == "ShaderNodeNormalMap":
-            node.inputs["Strength"].default_value = normal_strength(thickness)
-
-
-def set_material_displacement(material, method):
-    """Set the material's displacement method ('BUMP', 'DISPLACEMENT', 'BOTH') where this Blender keeps it."""
-    if hasattr(material, "displacement_method"):
-        material.displacement_method = method
-    if hasattr(material, "cycles") and hasattr(material.cycles, "displacement_method"):
-        material.cycles.displacement_method = method
 
 
 # ---------------------------------------------------------------------------
@@ -557,19 +253,7 @@ def build_canvas(context, folder, width_cm, thickness_mm, method):
     obj[PAINTING_DIR_KEY] = os.path.normpath(bpy.path.abspath(folder))
     obj[THICKNESS_KEY] = thickness
 
-    has_normal = material is not None and material.node_tree is not None and \
-        (NODE_PREFIX + "Normal Map") in material.node_tree.nodes
-    if material is None or not material.get(OWN_NODE_KEY):
-        material = bpy.data.materials.new(MATERIAL_NAME)
-        build_material(material, images, thickness, connect_displacement=connect, normal_map=normal_map)
-    elif has_normal != normal_map or not update_material(material, images, thickness, connect_displacement=connect):
-        build_material(material, images, thickness, connect_displacement=connect, normal_map=normal_map)
-    elif normal_map:
-        nodes = material.node_tree.nodes
-        nodes[NODE_PREFIX + "Normal Map"].inputs["Strength"].default_value = normal_strength(thickness)
-        for node in nodes:
-            if node.bl_idname == "ShaderNodeTexImage" and node.get(OWN_NODE_KEY) and node.label == "Normal":
-                node.image = images[values.NORMAL_MAP]
+    material = canvas_material(material, images, thickness, connect, normal_map)
     mesh.materials.append(material)
 
     _set_object_adaptive(scene, obj, False)
@@ -597,28 +281,11 @@ def reload_maps(obj):
     folder = obj.get(PAINTING_DIR_KEY)
     if not folder:
         raise CanvasError("Canvas {} does not remember its painted folder: build it again.".format(obj.name))
-    material = obj.active_material
-    images = {node.image for node in (material.node_tree.nodes if material and material.node_tree else ())
-              if node.bl_idname == "ShaderNodeTexImage" and node.get(OWN_NODE_KEY) and node.image is not None}
-    if any(os.path.basename(image.filepath) == values.NORMAL_MAP for image in images):
-        from ... import core
-
-        try:  # a repainted folder's normal map is made again from its new height map
-            core.ensure_normal_map(os.path.normpath(bpy.path.abspath(folder)))
-        except core.PaintReliefError as error:
-            raise CanvasError(str(error)) from None
-    for image in images:
-        path = bpy.path.abspath(image.filepath)
-        if not os.path.isfile(path):
-            raise CanvasError("Painted map {} does not exist; paint again or build the canvas from another "
-                              "folder.".format(path))
-    for image in images:
-        image.reload()
-    return len(images)
+    return reload_images(folder, own_images(obj.active_material))
 
 
 # ---------------------------------------------------------------------------
-# relief on and off (the lighting comparison's flat renders)
+# paint thickness, and relief on and off (the lighting comparison's flat renders)
 
 
 def canvas_thickness(obj):
@@ -631,6 +298,28 @@ def canvas_thickness(obj):
     if bump is None:
         raise CanvasError("Canvas {} has no paint thickness: build the canvas again.".format(obj.name))
     return float(bump.inputs["Distance"].default_value)  # the Bump's distance is never switched off
+
+
+def set_thickness(obj, thickness):
+    """Give a built canvas paint ``thickness`` metres thick at once: modifier, Displacement, Bump, Normal Map.
+
+    Only the extension's own nodes change (a user's Bump or Displacement keeps
+    its values). Leaves the canvas's relief switched on, as built; nothing else changes.
+    """
+    obj[THICKNESS_KEY] = float(thickness)
+    modifier = obj.modifiers.get(DISPLACE_MODIFIER)
+    if modifier is not None:
+        modifier.strength = thickness
+    material = obj.active_material
+    if material is None or material.node_tree is None:
+        return
+    for node in own_nodes(material.node_tree).values():
+        if node.bl_idname == "ShaderNodeDisplacement":
+            node.inputs["Scale"].default_value = thickness
+        elif node.bl_idname == "ShaderNodeBump":
+            node.inputs["Distance"].default_value = thickness
+        elif node.bl_idname == "ShaderNodeNormalMap":
+            node.inputs["Strength"].default_value = normal_strength(thickness)
 
 
 def set_relief(obj, enabled):

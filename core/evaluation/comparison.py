@@ -21,7 +21,7 @@ from ..errors import InputError, ParameterError
 from ..figures.chart import line_chart
 from ..figures.gif import write_gif
 from ..figures.sheet import contact_sheet
-from ..files import io
+from ..files import reading, writing
 from ..files.staging import staged_outputs
 from ..lighting import DEFAULT_RELIEF, bump_lighting, directional_lighting, paper_lighting
 from ..measures.metrics import pearson, ssim
@@ -42,7 +42,7 @@ def read_rgb_exr(path: Path, shape: Optional[tuple] = None) -> np.ndarray:
     """(H, W, 3) float32 of an RGB(A) EXR; InputError if missing or of another (H, W)."""
     if not Path(path).exists():
         raise InputError(f"{path} is missing.")
-    data, _, _ = io.read_exr(path)
+    data, _, _ = reading.read_exr(path)
     if data.shape[2] < 3 or (shape is not None and data.shape[:2] != tuple(shape)):
         raise InputError(f"{path} must be an RGB image of {shape[1]}x{shape[0]} pixels, got {data.shape[1]}x"
                          f"{data.shape[0]} with {data.shape[2]} channels.")
@@ -57,7 +57,7 @@ def read_painting(painting_dir: Path) -> Dict[str, np.ndarray]:
         path = folder / f"{name}.exr"
         if not path.exists():
             raise InputError(f"{path} is missing: paint into {folder} first.")
-        maps[name] = io.read_exr(path)[0]
+        maps[name] = reading.read_exr(path)[0]
     linear = maps["color"][..., :3]
     return {"linear": linear, "srgb": linear_to_srgb(linear), "height": maps["height"][..., 0],
             "orientation": maps["orientation"][..., 0]}
@@ -174,7 +174,7 @@ def run_comparison(painting_dir, renders_dir, azimuths_deg: Sequence[float], ele
               "azimuths": per_azimuth, "best_azimuth_deg": best_az, "best_pearson": paper_r[best],
               "paper_pearson_range": [min(paper_r), max(paper_r)]}
     stage.report(0.6, "Drawing the comparison pictures")
-    out = io.ensure_output_dir(out_dir)
+    out = writing.ensure_output_dir(out_dir)
     bump = lit_2d("bump", maps, best_az, elevation_deg, relief_px)
     best_frame = frames[best_az]
     s_paper = shading(srgb_to_linear(paper), maps["linear"])
@@ -196,10 +196,10 @@ def run_comparison(painting_dir, renders_dir, azimuths_deg: Sequence[float], ele
                                 panel_height=min(320, maps["height"].shape[0]), columns=2) for az in azimuths]
     result["seconds"] = round(time.perf_counter() - t0, 3)
     with staged_outputs(out) as staging:
-        io.write_png(staging / "comparison.png", sheet)
-        io.write_png(staging / "correlation.png", chart)
+        writing.write_png(staging / "comparison.png", sheet)
+        writing.write_png(staging / "correlation.png", chart)
         write_gif(staging / "light_sweep.gif", gif_frames, seconds_per_frame=0.6)
-        io.write_json(staging / "comparison.json", result)
-        io.write_text(staging / "comparison.md", markdown(result))
+        writing.write_json(staging / "comparison.json", result)
+        writing.write_text(staging / "comparison.md", markdown(result))
     stage.report(1.0, "Comparison written")
     return result

@@ -8,7 +8,7 @@ go into table.md / table.csv and the pictures into one contact sheet per image.
 from __future__ import annotations
 
 import csv
-import io as textio
+import io
 import math
 import time
 from dataclasses import dataclass
@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..figures.sheet import contact_sheet
 from ..figures.visualize import partition_overlay
-from ..files import io
+from ..files import reading, writing
 from ..lighting import bump_lighting, paper_lighting
 from ..measures.metrics import edge_fidelity, psnr, ssim
 from ..methods.registry import paint
@@ -62,7 +62,7 @@ def measure(name: str, key: str, image: np.ndarray, painting: Painting, seconds:
 
 def run_image(path: Path, params: Params, stage: Stage) -> tuple:
     """Paint one image with every method; returns (rows, contact sheet)."""
-    image = io.read_image(path, params.max_megapixels, params.canvas_colour)
+    image = reading.read_image(path, params.max_megapixels, params.canvas_colour)
     rows: List[Row] = []
     paintings: Dict[str, Painting] = {}
     for i, (key, (_, changes)) in enumerate(METHODS.items()):
@@ -101,7 +101,7 @@ def tables(rows: Sequence[Row]) -> tuple:
             line += [r.strokes, round(r.seconds, 2), round(r.psnr_db, 2), round(r.ssim, 3), round(r.edge_fidelity, 3)]
         line.append(round(methods["ours"].strokes / max(1, methods["hertzmann98"].strokes), 3))
         lines.append(line)
-    out = textio.StringIO()
+    out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(header)
     writer.writerows(lines)
@@ -167,8 +167,8 @@ def run_experiments(paths: Sequence[Path], out_dir: Path, params: Params, progre
         markdown, csv_text = tables(rows)
         with folder.staged() as staging:
             for stem, sheet in sheets.items():
-                io.write_png(staging / f"{stem}_sheet.png", sheet)
-            io.write_text(staging / "table.md", markdown)
-            io.write_text(staging / "table.csv", csv_text)
+                writing.write_png(staging / f"{stem}_sheet.png", sheet)
+            writing.write_text(staging / "table.md", markdown)
+            writing.write_text(staging / "table.csv", csv_text)
     stage.report(1.0, f"Compared {len(paths)} image(s)")
     return rows

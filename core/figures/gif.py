@@ -91,7 +91,7 @@ def sub_blocks(data: bytes) -> bytes:
 
 def write_gif(path, frames: Sequence[np.ndarray], seconds_per_frame: float = 0.5) -> None:
     """Write looping animated GIF ``path`` from equally sized (H, W, 3) [0, 1] frames, atomically."""
-    from ..files.io import atomic_path
+    from ..files.writing import atomic_path
 
     h, w = frames[0].shape[:2]
     delay = max(2, int(round(seconds_per_frame * 100)))

@@ -33,7 +33,7 @@ PER_PIXEL = {
 }
 BYTES_PER_PIXEL = sum(PER_PIXEL.values())
 """Sum of PER_PIXEL: 172 bytes; the measured peak resident memory is 130-160 bytes per pixel at 16 megapixels.
-Writing makes its images a block of rows at a time (``io.RowBlocks``): no full-size arrays of its own."""
+Writing makes its images a block of rows at a time (``writing.RowBlocks``): no full-size arrays of its own."""
 MASK_BYTES_PER_PIXEL = 16
 """A user mask: the decoded file and its float32 copy, resized to the image."""
 BASE_BYTES = 200 * 2**20

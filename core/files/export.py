@@ -16,7 +16,7 @@ from ..errors import InputError
 from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
 from ..results import Painting
 from ..version import __version__
-from . import io, quiet
+from . import quiet, reading, writing
 
 
 def map_attributes(painting: Painting) -> dict:
@@ -62,7 +62,7 @@ def run_all(tasks: Sequence[Callable[[], object]]) -> list:
     return [future.result() for future in futures]
 
 
-def rows_with_halo(shape: tuple, compute: Callable[[int, int], np.ndarray], halo: int) -> io.RowBlocks:
+def rows_with_halo(shape: tuple, compute: Callable[[int, int], np.ndarray], halo: int) -> writing.RowBlocks:
     """RowBlocks of an image whose rows depend on the ``halo`` rows around them.
 
     compute(a, b) makes rows a .. b - 1 of the (H, W, C) ``shape`` image from
@@ -73,7 +73,7 @@ def rows_with_halo(shape: tuple, compute: Callable[[int, int], np.ndarray], halo
     def rows(y0: int, y1: int) -> np.ndarray:
         a, b = max(0, y0 - halo), min(shape[0], y1 + halo)
         return compute(a, b)[y0 - a:y1 - a]
-    return io.RowBlocks(tuple(shape), rows)
+    return writing.RowBlocks(tuple(shape), rows)
 
 
 HEIGHT_DIGEST_ATTR = "paint_relief:height_sha256"
@@ -96,7 +96,7 @@ def write_normal_map(path: Path, height: np.ndarray, attributes: dict, height_di
         stored = height[a:b].astype(np.float16).astype(np.float32)
         return encode_normals(normal_map(stored, DEFAULT_RELIEF))
     rows = rows_with_halo(height.shape + (3,), normals, 1)
-    io.write_exr(path, rows, half=True, attributes=normal_attributes)
+    writing.write_exr(path, rows, half=True, attributes=normal_attributes)
 
 
 def ensure_normal_map(folder: Path) -> Path:
@@ -112,11 +112,11 @@ def ensure_normal_map(folder: Path) -> Path:
     digest = file_digest(folder / "height.exr")["sha256"] if (folder / "height.exr").is_file() else None
     if digest is not None and path.is_file():
         try:
-            if io.read_attributes(path).get(HEIGHT_DIGEST_ATTR) == digest:
+            if reading.read_attributes(path).get(HEIGHT_DIGEST_ATTR) == digest:
                 return path
         except InputError:
             pass                                    # unreadable: made again below
-    height, _, attributes = io.read_exr(folder / "height.exr")
+    height, _, attributes = reading.read_exr(folder / "height.exr")
     write_normal_map(path, height[:, :, 0], painting_attributes(attributes), digest)
     return path
 
@@ -148,19 +148,19 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     attributes = map_attributes(painting)
     colour, height = painting.colour, painting.height
     shape = colour.shape
-    linear = io.RowBlocks(shape, lambda y0, y1: srgb_to_linear(colour[y0:y1]))
+    linear = writing.RowBlocks(shape, lambda y0, y1: srgb_to_linear(colour[y0:y1]))
     lit = rows_with_halo(shape, lambda a, b: paper_lighting(colour[a:b], height[a:b], painting.orientation[a:b],
                                                             PAPER_STRENGTH), 2)
     tasks = [
-        lambda: io.write_png(folder / "lit_paper.png", lit),
-        lambda: io.write_png(folder / "painting.png", colour),
-        lambda: io.write_exr(folder / "color.exr", linear, half=True, attributes=attributes),
-        lambda: io.write_exr(folder / "height.exr", height, channels=("Y",), half=True, attributes=attributes),
-        lambda: io.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), half=True,
+        lambda: writing.write_png(folder / "lit_paper.png", lit),
+        lambda: writing.write_png(folder / "painting.png", colour),
+        lambda: writing.write_exr(folder / "color.exr", linear, half=True, attributes=attributes),
+        lambda: writing.write_exr(folder / "height.exr", height, channels=("Y",), half=True, attributes=attributes),
+        lambda: writing.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), half=True,
                              attributes=attributes),
-        lambda: io.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), half=True,
+        lambda: writing.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), half=True,
                              attributes=attributes),
-        lambda: io.write_json(folder / "strokes.json",
+        lambda: writing.write_json(folder / "strokes.json",
                               {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
                               indent=None),
     ]
@@ -174,5 +174,5 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
     report.update({"input": str(source), "input_page": 0, "input_pages": int(pages),
                    "params": painting.params.to_dict(), "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
-    io.write_json(folder / "report.json", report)
+    writing.write_json(folder / "report.json", report)
     return report

@@ -17,7 +17,7 @@ import pathlib
 from typing import Dict, Sequence, Tuple
 
 from ..errors import InputError
-from . import io
+from . import reading
 from .staging import settle
 
 EXPECTED_CHANNELS = {
@@ -54,7 +54,7 @@ def check_maps(folder, names: Sequence[str] = CANVAS_MAPS) -> Tuple[int, int]:
         path = folder / name
         if not path.is_file():
             raise InputError(f"The painted map {path} does not exist; paint into {folder} first.")
-        data, channels, attributes = io.read_exr(path)  # InputError: unreadable, truncated, empty, NaN or inf
+        data, channels, attributes = reading.read_exr(path)  # InputError: unreadable, truncated, empty, NaN or inf
         expected = EXPECTED_CHANNELS.get(name)
         if expected is not None and tuple(channels) != expected:
             raise InputError(f"The painted map {path} has the channels {','.join(channels)}, "
@@ -98,7 +98,7 @@ def check_painting(folder) -> str:
         if len(data) != expected["bytes"] or hashlib.sha256(data).hexdigest() != expected["sha256"]:
             raise InputError(f"The painting file {path} is not the one {report_path} lists.")
         if name.endswith(".exr"):
-            _, _, attributes = io.read_exr(path)
+            _, _, attributes = reading.read_exr(path)
             if str(attributes.get("paint_relief:seed")) != seed:
                 raise InputError(f"The painting file {path} has seed {attributes.get('paint_relief:seed')}, "
                                  f"not the report's {seed}.")

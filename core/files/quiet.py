@@ -34,14 +34,6 @@ class Captured:
     def __init__(self) -> None:
         self.text = ""
 
-    def first_line(self) -> str:
-        """The first non-empty line of ``text``, stripped, without a trailing full stop."""
-        for line in self.text.splitlines():
-            line = line.strip().rstrip(".").strip()
-            if line:
-                return line
-        return ""
-
 
 @contextlib.contextmanager
 def captured() -> Iterator[Captured]:

@@ -144,7 +144,7 @@ def load_brush(spec: PathLike, max_megapixels: float = 1.0) -> np.ndarray:
 
     spec: a shipped brush name (flat, round, filbert; any letter case) or a
     path to an image OpenImageIO reads (colour becomes luminance, alpha
-    multiplies it; see ``io.read_gray``). A user map is used as it is (not
+    multiplies it; see ``reading.read_gray``). A user map is used as it is (not
     normalised), its columns across and its rows along the stroke.
     Raises ParameterError when spec is neither a shipped name nor an existing
     file, InputError when the file cannot be read (or is above
@@ -157,7 +157,7 @@ def load_brush(spec: PathLike, max_megapixels: float = 1.0) -> np.ndarray:
     if not text.strip() or not path.exists():
         raise ParameterError(
             f"Brush {text!r} is neither a shipped brush ({', '.join(SHIPPED_BRUSHES)}) nor an existing image file.")
-    from ..files.io import read_gray  # OpenImageIO loads only when a brush file is used
+    from ..files.reading import read_gray  # OpenImageIO loads only when a brush file is used
     values = read_gray(path, max_megapixels=max_megapixels)
     if not np.any(values > 0):
         raise InputError(f"Brush image {path} has no bristles: every pixel is black.")

@@ -77,7 +77,7 @@ def main(work, render):
 
     bpy = load_extension(work)
     import paint_relief
-    from paint_relief.core.files import io
+    from paint_relief.core.files import reading, writing
 
     ops = bpy.ops.paint_relief
     scene = bpy.context.scene
@@ -85,7 +85,7 @@ def main(work, render):
     photo = os.path.join(work, "photo.png")
     y, x = np.mgrid[0:MAP_H, 0:MAP_W]
     stripes = 0.5 + 0.4 * np.sin(x / 3.0) * np.cos(y / 5.0)
-    io.write_png(photo, np.stack([x / MAP_W, y / MAP_H, stripes], axis=-1).astype(np.float32))
+    writing.write_png(photo, np.stack([x / MAP_W, y / MAP_H, stripes], axis=-1).astype(np.float32))
     out = os.path.join(work, "painted")
 
     @check
@@ -227,11 +227,11 @@ def main(work, render):
 
         height_path = os.path.join(out, "height.exr")
         original = open(height_path, "rb").read()
-        height, _, attributes = io.read_exr(height_path)
+        height, _, attributes = reading.read_exr(height_path)
         kept = painting_attributes(attributes)
-        io.write_exr(height_path, height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
+        writing.write_exr(height_path, height[::-1].copy(), channels=("Y",), half=True, attributes=kept)
         reload_result, reload_error = run_op(ops.reload_maps)
-        recorded = io.read_attributes(os.path.join(out, "normal.exr")).get(HEIGHT_DIGEST_ATTR)
+        recorded = reading.read_attributes(os.path.join(out, "normal.exr")).get(HEIGHT_DIGEST_ATTR)
         matches = recorded == file_digest(height_path)["sha256"]
         with open(height_path, "wb") as f:
             f.write(original)

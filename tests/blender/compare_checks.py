@@ -83,7 +83,7 @@ def main(work):
     from paint_relief.addon.comparison import compare
     from paint_relief.addon.scene import canvas
     from paint_relief.core.colour import linear_to_srgb, luminance, srgb_to_linear
-    from paint_relief.core.files import io
+    from paint_relief.core.files import reading, writing
     from paint_relief.core.lighting import bump_lighting
     from paint_relief.core.measures.metrics import pearson
 
@@ -97,7 +97,7 @@ def main(work):
         y, x = np.mgrid[0:h, 0:w]
         photo = np.stack([x / w, y / h, 0.5 + 0.4 * np.sin(x / 5.0) * np.cos(y / 7.0)], axis=-1).astype(np.float32)
         photo_path = os.path.join(work, "calibration_photo.png")
-        io.write_png(photo_path, photo)
+        writing.write_png(photo_path, photo)
         painted = os.path.join(work, "calibration_painting")
         core.paint_file(photo_path, painted, core.Params())
         settings.painting_dir = painted
@@ -131,8 +131,8 @@ def main(work):
         compare.restore(previous)
         canvas.set_relief(obj, True)
 
-        rendered = io.read_exr(path)[0][..., :3]
-        expected = io.read_exr(os.path.join(painted, "color.exr"))[0][..., :3]
+        rendered = reading.read_exr(path)[0][..., :3]
+        expected = reading.read_exr(os.path.join(painted, "color.exr"))[0][..., :3]
         out = {"size": [rendered.shape[1], rendered.shape[0]], "map_size": [expected.shape[1], expected.shape[0]],
                "flat_displace_strength": modifier_strength,
                "relief_back_on": obj.modifiers[canvas.DISPLACE_MODIFIER].strength}
@@ -155,10 +155,10 @@ def main(work):
         # Height falls with the column: the slope faces +x (image right), where painter azimuth 0 puts the light.
         height = (slope * (w - 1 - x) * pixel_mm / RAMP_THICKNESS_MM).astype(np.float32)
         grey = np.full((h, w, 3), srgb_to_linear(np.float32(0.5)), dtype=np.float32)
-        io.write_exr(os.path.join(folder, "color.exr"), grey)
-        io.write_exr(os.path.join(folder, "height.exr"), height, channels=("Y",))
-        io.write_exr(os.path.join(folder, "opacity.exr"), np.ones((h, w), np.float32), channels=("Y",))
-        io.write_exr(os.path.join(folder, "orientation.exr"), np.zeros((h, w), np.float32), channels=("Y",))
+        writing.write_exr(os.path.join(folder, "color.exr"), grey)
+        writing.write_exr(os.path.join(folder, "height.exr"), height, channels=("Y",))
+        writing.write_exr(os.path.join(folder, "opacity.exr"), np.ones((h, w), np.float32), channels=("Y",))
+        writing.write_exr(os.path.join(folder, "orientation.exr"), np.zeros((h, w), np.float32), channels=("Y",))
 
         empty_scene(bpy)
         settings.painting_dir = folder
@@ -186,8 +186,8 @@ def main(work):
                "key_restored": key_before == list(key.rotation_quaternion),
                "engine_after": scene.render.engine, "azimuths": {}}
         for az in azimuths:
-            relief = io.read_exr(os.path.join(renders, "relief_{:03.0f}.exr".format(az)))[0][..., :3]
-            flat = io.read_exr(os.path.join(renders, "flat_{:03.0f}.exr".format(az)))[0][..., :3]
+            relief = reading.read_exr(os.path.join(renders, "relief_{:03.0f}.exr".format(az)))[0][..., :3]
+            flat = reading.read_exr(os.path.join(renders, "flat_{:03.0f}.exr".format(az)))[0][..., :3]
             s3d = (luminance(relief) / luminance(flat) - 1.0)[inner]
             lit = bump_lighting(np.full((h, w, 3), 0.5, np.float32), height, math.radians(az),
                                 math.radians(RAMP_ELEVATION), relief=relief_px)

@@ -116,12 +116,13 @@ def main(zip_path, work):
     from importlib import import_module
 
     import_module(MODULE + ".core")
-    io = import_module(MODULE + ".core.files.io")
+    reading = import_module(MODULE + ".core.files.reading")
+    writing = import_module(MODULE + ".core.files.writing")
     import numpy as np
 
     photo = os.path.join(work, "photo.png")
     y, x = np.mgrid[0:48, 0:64]
-    io.write_png(photo, np.stack([x / 64, y / 48, 0.5 + 0.4 * np.sin(x / 3.0) * np.cos(y / 5.0)], -1)
+    writing.write_png(photo, np.stack([x / 64, y / 48, 0.5 + 0.4 * np.sin(x / 3.0) * np.cos(y / 5.0)], -1)
                  .astype(np.float32))
 
     @step
@@ -156,7 +157,7 @@ def main(zip_path, work):
         path = os.path.join(work, "render.png")
         scene.render.filepath = path
         bpy.ops.render.render(write_still=True)
-        pixels = io.read_image(path)
+        pixels = reading.read_image(path)
         return {"exists": os.path.isfile(path), "size": list(pixels.shape[:2]), "mean": float(pixels.mean()),
                 "std": float(pixels.std())}
 
@@ -171,11 +172,11 @@ def main(zip_path, work):
         found = {"result": result, "error": error, "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else []}
         if os.path.isfile(sheet_path):
             sheet_module = import_module(MODULE + ".core.figures.sheet")
-            sheet = io.read_image(sheet_path)
+            sheet = reading.read_image(sheet_path)
             # The first row of labels: the strip between the top gap and the first pictures.
             strip = sheet[6:6 + 24, 6:200]
             found["label_pixels"] = int((np.abs(strip - np.asarray(sheet_module.BACKGROUND)).max(axis=2) > 0.3).sum())
-            chart = io.read_image(os.path.join(folder, "correlation.png"))
+            chart = reading.read_image(os.path.join(folder, "correlation.png"))
             found["chart_title_dark_pixels"] = int((chart[5:30, 70:400].max(axis=2) < 0.5).sum())
         return found
 
@@ -318,7 +319,7 @@ def main(zip_path, work):
         settings.image_path = path
         settings.output_dir = os.path.join(work, "sideways")
         result, error = run_op(ops.paint)
-        painted = io.read_image(os.path.join(settings.painting_dir, "painting.png"))
+        painted = reading.read_image(os.path.join(settings.painting_dir, "painting.png"))
         return {"result": result, "error": error, "shape": list(painted.shape),
                 "top_mean": painted[:20].mean(axis=(0, 1)).tolist(),
                 "bottom_mean": painted[-20:].mean(axis=(0, 1)).tolist()}

@@ -1,77 +1,35 @@
-"""Image and file input/output: reading pictures, masks and EXR maps, writing EXR, PNG and JSON.
+"""Reading images: photographs, masks and brush maps as sRGB values, EXR maps as stored, headers and image counts.
 
-Every reader raises ``InputError`` and every writer ``OutputError`` with one
-sentence naming the file and the problem. Writers go through ``atomic_path``:
-the data is written to a temporary file in the same folder and renamed over
-the target, so a failed write never leaves a half-written file over a good
-one. Writers produce the same bytes for the same data (no timestamps).
+Every reader raises ``InputError`` with one sentence naming the file and the
+problem: missing, a folder, a URL, unreadable, truncated, empty, above the
+pixel limit (checked from the header before any pixel is decoded) or holding
+NaN or infinite values.
 """
 
 from __future__ import annotations
 
 import contextlib
-import json
 import os
 import pathlib
 import re
-import secrets
 import stat
 import struct
-from dataclasses import dataclass
-from typing import Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
+from typing import Dict, Iterator, List, Sequence, Tuple
 
 import numpy as np
 import OpenImageIO as oiio
 
 from ..colour import linear_to_srgb, luminance
-from ..errors import InputError, OutputError, plain_cause
+from ..errors import InputError, plain_cause
 from ..params import CANVAS_COLOUR
 from . import quiet
-
-PathLike = Union[str, os.PathLike]
+from .image_files import CHANNEL_ORDER_ATTR, PathLike, oiio_error, reason
 
 # File formats whose pixel values are scene-linear whatever their header says.
 _LINEAR_FORMATS = {"openexr", "hdr"}
 _LINEAR_EXTENSIONS = {".exr", ".hdr", ".sxr", ".mxr"}
 # Colour-space names (lower case) that mean scene-linear data.
 _LINEAR_SPACES = {"linear", "scene_linear", "acescg", "aces2065-1"}
-
-# Header attribute holding the channel order given to write_exr (OpenEXR stores channels sorted by name).
-_CHANNEL_ORDER_ATTR = "paint_relief:channel_order"
-
-
-# ---------------------------------------------------------------------------
-# messages
-
-
-def _reason(text: str, fallback: str, *paths) -> str:
-    """The first sentence of a library's error text, without the file names ``paths`` and a trailing full stop.
-
-    OpenImageIO and its libraries name the file in their messages ('... ("/a/b.jpg")', 'image file "/a/.b.tmp.exr".
-    File output failed.'); our sentence names it already, so the names are dropped and only the first of their
-    sentences is kept.
-    """
-    for line in (text or "").splitlines():
-        for path in sorted({os.fspath(p) for p in paths}, key=len, reverse=True):
-            for form in (f' ("{path}")', f' "{path}"', f'"{path}"', f" ({path})", f" {path}", path):
-                line = line.replace(form, "")
-        line = re.split(r"(?<=[a-z0-9)])\.\s", line.strip())[0]
-        line = " ".join(line.split()).rstrip(":.").strip()
-        if line:
-            return line
-    return fallback
-
-
-def _oiio_error(obj=None) -> str:
-    """Pending OpenImageIO error text from ``obj`` (or the global one); clears it."""
-    text = ""
-    if obj is not None:
-        text = obj.geterror()
-    return text or oiio.geterror()
-
-
-# ---------------------------------------------------------------------------
-# reading
 
 
 def _noun(role: str) -> str:
@@ -141,7 +99,7 @@ def _opened(path: pathlib.Path, max_megapixels: float, config=None, role: str = 
     with quiet.captured() as printed:
         inp = oiio.ImageInput.open(str(path), config) if config is not None else oiio.ImageInput.open(str(path))
         if inp is None:
-            why = _reason(_oiio_error() or printed.text, "not an image file OpenImageIO can read", path)
+            why = reason(oiio_error() or printed.text, "not an image file OpenImageIO can read", path)
             raise InputError(f"Cannot read the {_noun(role)} {path}: {why}.")
         try:
             spec = inp.spec()
@@ -216,7 +174,7 @@ def _read_first_image(path: pathlib.Path, inp, spec, role: str = "input") -> np.
     pixels = inp.read_image(0, 0, 0, spec.nchannels, fmt)
     error = inp.geterror() if inp.has_error else ""
     if pixels is None or error:
-        why = _reason(error or oiio.geterror(), "the pixel data could not be read", path)
+        why = reason(error or oiio.geterror(), "the pixel data could not be read", path)
         raise InputError(f"Cannot read the {_noun(role)} {path}: {why}.")
     pixels = np.asarray(pixels)
     if pixels.ndim == 2 and spec.nchannels == 1:
@@ -382,12 +340,12 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
         names = list(spec.channelnames)
         attributes = {a.name: a.value for a in spec.extra_attribs}
     if pixels is None or error:
-        why = _reason(error or oiio.geterror() or printed.text, "the pixel data could not be read", path)
+        why = reason(error or oiio.geterror() or printed.text, "the pixel data could not be read", path)
         raise InputError(f"Cannot read the image {path}: {why}.")
     data = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
     if not np.all(np.isfinite(data)):
         raise InputError(f"The image {path} holds NaN or infinite values.")
-    data, names = _restore_channel_order(data, names, attributes.get(_CHANNEL_ORDER_ATTR))
+    data, names = _restore_channel_order(data, names, attributes.get(CHANNEL_ORDER_ATTR))
     return data, names, attributes
 
 
@@ -406,274 +364,3 @@ def _restore_channel_order(data: np.ndarray, names: List[str], order) -> Tuple[n
         return data, names
     index = [names.index(n) for n in wanted]
     return np.ascontiguousarray(data[:, :, index]), wanted
-
-
-# ---------------------------------------------------------------------------
-# writing
-
-
-@contextlib.contextmanager
-def atomic_path(path: PathLike) -> Iterator[pathlib.Path]:
-    """Yield a temporary path beside ``path`` (same folder, same extension last).
-
-    The temporary name is ``.<stem>.tmp-<pid>-<random><suffix>``. On normal
-    exit the temporary file replaces ``path`` (``os.replace``, atomic on one
-    file system); on an exception it is deleted and the exception re-raised,
-    leaving any previous ``path`` untouched. A failed rename raises
-    OutputError.
-    """
-    path = pathlib.Path(path)
-    temp = path.with_name(f".{path.stem}.tmp-{os.getpid()}-{secrets.token_hex(4)}{path.suffix}")
-    try:
-        yield temp
-    except BaseException:
-        _remove_quietly(temp)
-        raise
-    try:
-        os.replace(temp, path)
-    except OSError as exc:
-        _remove_quietly(temp)
-        cause = plain_cause(exc)
-        raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause) from exc
-
-
-def _remove_quietly(path: pathlib.Path) -> None:
-    """Delete ``path`` if it exists; ignore failures."""
-    try:
-        path.unlink()
-    except OSError:
-        pass
-
-
-def ensure_output_dir(path: PathLike) -> pathlib.Path:
-    """Create the folder ``path`` (and its parents) and check a file can be written in it.
-
-    Returns the folder as a ``pathlib.Path``. Raises OutputError ("Cannot
-    write to output folder X: reason.") when it cannot be created or is not
-    writable (checked by creating and deleting a temporary file).
-    """
-    folder = pathlib.Path(path)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / f".paint-relief-probe-{os.getpid()}-{secrets.token_hex(4)}"
-        with open(probe, "wb"):
-            pass
-        probe.unlink()
-    except OSError as exc:
-        raise OutputError(f"Cannot write to output folder {folder}: {plain_cause(exc)}.") from exc
-    return folder
-
-
-def _default_channels(count: int) -> Tuple[str, ...]:
-    """Standard EXR channel names for 1, 3 or 4 channels."""
-    names = {1: ("Y",), 3: ("R", "G", "B"), 4: ("R", "G", "B", "A")}
-    if count not in names:
-        raise ValueError(f"Give channel names for {count} channels.")
-    return names[count]
-
-
-def _as_hwc(data: np.ndarray) -> np.ndarray:
-    """(H, W) or (H, W, C) -> contiguous float32 (H, W, C)."""
-    array = np.asarray(data, dtype=np.float32)
-    if array.ndim == 2:
-        array = array[:, :, None]
-    if array.ndim != 3 or array.shape[0] == 0 or array.shape[1] == 0:
-        raise ValueError(f"Image data must be (H, W) or (H, W, C) with H, W > 0, got shape {array.shape}.")
-    return np.ascontiguousarray(array)
-
-
-def _attribute_value(value):
-    """str / int / float (NumPy scalars and bools included) for an OpenImageIO header attribute.
-
-    Integers outside the 32-bit range become decimal text so they are stored exactly.
-    """
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, bool):
-        return int(value)
-    if isinstance(value, int) and not -2**31 <= value < 2**31:
-        return str(value)  # header integers hold 32 bits: larger ones are kept exactly as text
-    if isinstance(value, (str, int, float)):
-        return value
-    raise ValueError(f"Header attribute values must be str, int or float, got {type(value).__name__}.")
-
-
-BLOCK_PIXELS = 1 << 20
-"""About this many pixels are made and written at a time (see ``RowBlocks``)."""
-
-
-@dataclass(frozen=True)
-class RowBlocks:
-    """An (H, W, C) float32 image made a block of rows at a time, so a large image is written in little memory.
-
-    shape: (H, W, C); rows(y0, y1) returns float32 (y1 - y0, W, C), the image's rows y0 .. y1 - 1.
-    """
-
-    shape: Tuple[int, int, int]
-    rows: Callable[[int, int], np.ndarray]
-
-    @classmethod
-    def of(cls, data: Union[np.ndarray, "RowBlocks"]) -> "RowBlocks":
-        """``data`` itself when it is RowBlocks, else the (H, W) or (H, W, C) array cut into blocks."""
-        if isinstance(data, RowBlocks):
-            return data
-        pixels = _as_hwc(data)
-        return cls(pixels.shape, lambda y0, y1: pixels[y0:y1])
-
-    def blocks(self) -> Iterator[Tuple[int, int, np.ndarray]]:
-        """(y0, y1, rows) for consecutive blocks of about BLOCK_PIXELS pixels (whole multiples of 16 rows)."""
-        height, width, channels = self.shape
-        step = max(16, BLOCK_PIXELS // width // 16 * 16)
-        for y0 in range(0, height, step):
-            y1 = min(height, y0 + step)
-            block = self.rows(y0, y1)
-            if block.shape != (y1 - y0, width, channels):
-                raise ValueError(f"Rows {y0}..{y1} came back with shape {block.shape}.")
-            yield y0, y1, block
-
-
-def _write_with_oiio(path: pathlib.Path, spec, image: RowBlocks,
-                     convert: Callable[[np.ndarray], np.ndarray] = None) -> None:
-    """Write ``image`` with ``spec`` to ``path`` through a temporary file, a block of rows at a time
-    (each passed through ``convert`` first when given); OutputError on any failure."""
-    with atomic_path(path) as temp, quiet.captured() as printed:
-        oiio.geterror()
-        out = oiio.ImageOutput.create(str(temp))
-        if out is None:
-            raise OutputError(f"Cannot write {path}: {_reason(oiio.geterror(), 'no writer for this file type', temp)}.")
-        try:
-            ok = out.open(str(temp), spec)
-            for y0, y1, block in image.blocks() if ok else ():
-                pixels = np.ascontiguousarray(convert(block) if convert is not None else block)
-                ok = out.write_scanlines(y0, y1, 0, pixels)
-                if not ok:
-                    break
-            error = "" if ok else _oiio_error(out)
-        finally:
-            closed = out.close()
-        if not ok or not closed:
-            cause = write_failure_cause(temp) or _reason(error or _oiio_error(out) or printed.text,
-                                                         "the image could not be written", temp, path)
-            raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause)
-
-
-PROBE_BYTES = 1 << 20
-"""Bytes appended to a file a library failed to write, to learn the operating system's reason."""
-
-
-def write_failure_cause(temp: pathlib.Path) -> Optional[str]:
-    """Why writing the temporary file ``temp`` failed, in plain words ('no space is left on the device'), or None.
-
-    OpenEXR, libpng and libjpeg report only that writing failed ('Failed to write pixel data ... File output
-    failed'). The file is about to be deleted anyway, so PROBE_BYTES more are appended to it and flushed: the
-    error the operating system gives (no space, a quota, the file size limit, a device error) is the cause.
-    None when that write goes through (the library failed for a reason of its own).
-    """
-    try:
-        with open(temp, "ab") as f:
-            f.write(bytes(PROBE_BYTES))
-            f.flush()
-            os.fsync(f.fileno())
-    except OSError as exc:
-        return plain_cause(exc)
-    return None
-
-
-def write_exr(path: PathLike, data: Union[np.ndarray, RowBlocks], channels: Optional[Sequence[str]] = None,
-              half: bool = False, attributes: Optional[Dict[str, object]] = None) -> None:
-    """Write float32 (H, W) or (H, W, C) ``data`` (or RowBlocks) as a zip-compressed OpenEXR file.
-
-    ``channels`` names the C channels (default Y / R,G,B / R,G,B,A for 1 / 3 / 4
-    channels); ``half=True`` stores 16-bit half floats, otherwise 32-bit
-    floats. Values are written as given (scene-linear for colour).
-    ``attributes`` maps header names to str / int / float values (for example
-    "paint_relief:params", "paint_relief:seed"). The channel order is also
-    stored (``paint_relief:channel_order``) so ``read_exr`` returns it. No
-    time stamp is written: the same arguments give the same bytes. The file
-    is written atomically; any failure raises OutputError naming it.
-    """
-    path = pathlib.Path(path)
-    image = RowBlocks.of(data)
-    height, width, count = image.shape
-    names = tuple(channels) if channels is not None else _default_channels(count)
-    if len(names) != count:
-        raise ValueError(f"{len(names)} channel names given for {count} channels.")
-    spec = oiio.ImageSpec(width, height, count, "half" if half else "float")
-    spec.channelnames = names
-    spec.alpha_channel = names.index("A") if "A" in names else -1
-    spec.attribute("compression", "zip")
-    spec.attribute("DateTime", "")  # an empty DateTime stops OpenImageIO from stamping the current time
-    spec.attribute(_CHANNEL_ORDER_ATTR, ",".join(names))
-    for name, value in (attributes or {}).items():
-        spec.attribute(str(name), _attribute_value(value))
-    _write_with_oiio(path, spec, image)
-
-
-PNG_COMPRESSION = 3
-"""zlib level of the PNGs: level 3 is several times faster than the highest and the files about 10 % larger."""
-
-
-def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8) -> None:
-    """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` (or RowBlocks) in [0, 1] as an 8- or 16-bit PNG.
-
-    Values are quantised as ``floor(v * maxval + 0.5)`` clipped to
-    [0, maxval] (maxval 255 or 65535; NaN becomes 0). Four channels are RGB
-    plus straight (not premultiplied) alpha. Same data gives same bytes; the
-    file is written atomically; failures raise OutputError naming it.
-    """
-    if bits not in (8, 16):
-        raise ValueError(f"PNG bits must be 8 or 16, got {bits}.")
-    image = RowBlocks.of(data)
-    height, width, count = image.shape
-    if count not in (1, 3, 4):
-        raise ValueError(f"PNG data needs 1, 3 or 4 channels, got {count}.")
-    dtype, fmt = (np.uint8, "uint8") if bits == 8 else (np.uint16, "uint16")
-    maxval = float(np.iinfo(dtype).max)
-
-    def quantise(block: np.ndarray) -> np.ndarray:
-        values = np.nan_to_num(block.astype(np.float32), nan=0.0, copy=False)   # a float32 copy, then in place
-        values *= np.float32(maxval)
-        values += np.float32(0.5)
-        np.floor(values, out=values)
-        np.clip(values, 0.0, maxval, out=values)
-        return values.astype(dtype)
-
-    spec = oiio.ImageSpec(width, height, count, fmt)
-    if count == 4:
-        spec.attribute("oiio:UnassociatedAlpha", 1)
-    spec.attribute("DateTime", "")
-    spec.attribute("png:compressionLevel", PNG_COMPRESSION)
-    _write_with_oiio(pathlib.Path(path), spec, image, quantise)
-
-
-def _json_default(value):
-    """JSON form of NumPy scalars and arrays and of paths."""
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    raise TypeError(f"Object of type {type(value).__name__} is not JSON serialisable")
-
-
-def write_json(path: PathLike, obj, indent: Optional[int] = 2) -> None:
-    """Write ``obj`` as JSON (``indent`` spaces, None for compact; keys in given order; final newline), atomically.
-
-    NumPy scalars and arrays and paths are converted to plain JSON values.
-    Failures to write raise OutputError naming the file.
-    """
-    separators = None if indent is not None else (",", ":")
-    text = json.dumps(obj, indent=indent, separators=separators, sort_keys=False, default=_json_default) + "\n"
-    write_text(path, text)
-
-
-def write_text(path: PathLike, text: str) -> None:
-    """Write UTF-8 ``text`` atomically; failures raise OutputError naming the file."""
-    path = pathlib.Path(path)
-    with atomic_path(path) as temp:
-        try:
-            temp.write_text(text, encoding="utf-8")
-        except OSError as exc:
-            cause = plain_cause(exc)
-            raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause) from exc
