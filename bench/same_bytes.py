@@ -28,8 +28,12 @@ HEIGHT_MODES = ("over", "accumulate")
 
 def source_path(name: str) -> Path:
     """A bundled photograph by its stem (coffee, chelsea, astronaut, hubble) or any image path."""
+    if Path(name).is_file():
+        return Path(name)
     bundled = sorted((ROOT / "sample_scenes").glob(name + ".*"))
-    return bundled[0] if bundled and "/" not in name else Path(name)
+    if not bundled:
+        raise SystemExit(f"same_bytes: no photograph {name} (neither a file nor a bundled sample)")
+    return bundled[0]
 
 
 def digests(folder: Path) -> dict:
