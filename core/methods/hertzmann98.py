@@ -26,7 +26,7 @@ then jittered as painterJava does: hue, saturation and value (HSV) each get
 j (U - 1/2), RGB components j (U - 1/2), clipped (hue wraps).
 
 A stroke is rendered as a solid anti-aliased round-capped line of radius R
-along its control-point polyline with opacity alpha (``core.strokes.stroke.solid_stroke``:
+along its control-point polyline with opacity alpha (``core.strokes.lines.solid_stroke``:
 colour, coverage, height, opacity, orientation).
 
 Radii are given at 512 x 512 px and scale with the image:
@@ -54,7 +54,8 @@ from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Painting
 from ..strokes.canvas import Canvas
 from ..strokes.layout import hertzmann_anchors
-from ..strokes.stroke import Stroke, solid_stroke
+from ..strokes.lines import solid_stroke
+from ..strokes.stroke import Stroke
 from ..version import __version__
 from .styles import HertzmannStyle, get_style
 
