@@ -7,12 +7,6 @@ import numpy as np
 from ..workers import run_all, worker_count
 
 
-def grid_order(grids: np.ndarray) -> np.ndarray:
-    """Indices of (N, 4) grids (x0, y0, x1, y1) by area, largest first (ties keep partition order)."""
-    areas = (grids[:, 2] - grids[:, 0]).astype(np.int64) * (grids[:, 3] - grids[:, 1])
-    return np.argsort(-areas, kind="stable")
-
-
 def size_runs(sizes: np.ndarray) -> list:
     """[(size, first, stop), ...]: the runs of equal stroke size in ``sizes`` (N,) (grids in painting order)."""
     sizes = np.asarray(sizes)
