@@ -1,7 +1,7 @@
 """Brushwork figures of the bundled samples, the paper's method next to Hertzmann 1998.
 
 For each bundled photograph, paints it with default settings by both methods
-and prints the figures of ALGORITHM §5-6 (core/measures/stroke_metrics.py): median
+and prints the figures of ALGORITHM §5-6 (bench/brushwork_figures.py): median
 stroke length over width (all strokes and the first layer), the share of the
 painted area in dabs and in strokes at least 1.5 : 1, crack pixels, height
 percentiles, the colour error in smooth areas, the small highlights kept,
@@ -19,12 +19,7 @@ from __future__ import annotations
 
 import argparse
 
-from common import ROOT
-from core import Params
-from core.figures.brushwork import brushwork_sheet
-from core.files import reading, writing
-from core.measures.metrics import psnr
-from core.measures.stroke_metrics import (
+from brushwork_figures import (
     area_share_elongated,
     crack_share,
     detail_share,
@@ -34,9 +29,14 @@ from core.measures.stroke_metrics import (
     median_length_to_width_layers,
     smooth_colour_error,
     speckle_share,
-    stroke_shape,
     width_contrast,
 )
+from common import ROOT
+from core import Params
+from core.figures.brushwork import brushwork_sheet
+from core.files import reading, writing
+from core.measures.metrics import psnr
+from core.measures.stroke_metrics import stroke_shape
 from core.methods import paint
 
 SAMPLES = ("coffee", "chelsea", "astronaut")

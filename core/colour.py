@@ -1,4 +1,4 @@
-"""sRGB transfer functions, luminance and CIELAB.
+"""sRGB transfer functions, luminance, CIELAB and HSV.
 
 Arrays are float32, any shape; values in [0, 1] for display-referred data,
 unbounded (>= 0) for scene-linear data.
@@ -59,3 +59,24 @@ def lab_to_srgb(lab: np.ndarray) -> np.ndarray:
     xyz = np.where(f > 6 / 29, f ** 3, (116 * f - 16) * 27 / 24389) * D65_WHITE
     linear = np.clip(_transform(xyz, XYZ_TO_SRGB), 0.0, 1.0)
     return np.clip(np.where(linear <= 0.0031308, linear * 12.92, 1.055 * linear ** (1 / 2.4) - 0.055), 0.0, 1.0)
+
+
+def rgb_to_hsv(rgb: np.ndarray) -> np.ndarray:
+    """(N, 3) RGB [0, 1] -> (N, 3) HSV, each in [0, 1]: hue a fraction of a turn from red (0 for a grey),
+    saturation, value (the largest channel); float64 for float64 RGB. As ``colorsys.rgb_to_hsv``."""
+    r, g, b = rgb[:, 0], rgb[:, 1], rgb[:, 2]
+    v = rgb.max(axis=1)
+    c = v - rgb.min(axis=1)
+    s = np.where(v > 0, c / np.where(v > 0, v, 1.0), 0.0)
+    cc = np.where(c > 0, c, 1.0)
+    hue = np.where(v == r, (g - b) / cc, np.where(v == g, 2.0 + (b - r) / cc, 4.0 + (r - g) / cc))
+    hue = np.where(c > 0, np.mod(hue / 6.0, 1.0), 0.0)
+    return np.stack([hue, s, v], axis=1)
+
+
+def hsv_to_rgb(hsv: np.ndarray) -> np.ndarray:
+    """(N, 3) HSV in [0, 1] (hue a fraction of a turn) -> (N, 3) RGB [0, 1]; the inverse of ``rgb_to_hsv``.
+    As ``colorsys.hsv_to_rgb``."""
+    h, s, v = hsv[:, 0], hsv[:, 1], hsv[:, 2]
+    k = np.mod(np.array([5.0, 3.0, 1.0])[None, :] + h[:, None] * 6.0, 6.0)
+    return v[:, None] - v[:, None] * s[:, None] * np.clip(np.minimum(k, 4.0 - k), 0.0, 1.0)

@@ -27,6 +27,12 @@ SEED_LIMIT = 2**63
 """Seeds are whole numbers 0 <= seed < SEED_LIMIT."""
 
 
+def canonical_style(name) -> str:
+    """A style name spelt as in STYLE_NAMES when it names one: spaces around it dropped, lower case,
+    '-' as '_' ('Colorist-Wash' -> 'colorist_wash'); any other name comes back changed alike."""
+    return str(name).strip().lower().replace("-", "_")
+
+
 @dataclass(frozen=True)
 class Params:
     """Parameters of analysis and painting. ``validate()`` checks every range."""
@@ -217,7 +223,7 @@ class Params:
         need(len(self.canvas_colour) == 3 and all(0 <= c <= 1 for c in self.canvas_colour),
              "The canvas colour must be three values between 0 and 1.")
         need(self.method in METHODS, f"Unknown method {self.method!r}; choose huang11 or hertzmann98.")
-        need(isinstance(self.style, str) and self.style.strip().lower().replace("-", "_") in STYLE_NAMES,
+        need(isinstance(self.style, str) and canonical_style(self.style) in STYLE_NAMES,
              f"Unknown style {self.style!r}; choose impressionist, expressionist, colorist_wash or pointillist.")
         need(self.layout in LAYOUTS, f"Unknown layout {self.layout!r}; choose paper or hertzmann98.")
         need(self.renderer in RENDERERS, f"Unknown renderer {self.renderer!r}; choose bristles or lines.")

@@ -17,7 +17,7 @@ from core.params import Params
 from core.results import Painting
 from core.strokes.canvas import Canvas
 from core.strokes.layout import hertzmann_anchors
-from core.strokes.stroke import solid_stroke
+from core.strokes.lines import solid_stroke
 
 
 def textured(h: int = 96, w: int = 128, seed: int = 1) -> np.ndarray:

@@ -26,7 +26,7 @@ then jittered as painterJava does: hue, saturation and value (HSV) each get
 j (U - 1/2), RGB components j (U - 1/2), clipped (hue wraps).
 
 A stroke is rendered as a solid anti-aliased round-capped line of radius R
-along its control-point polyline with opacity alpha (``core.strokes.stroke.solid_stroke``:
+along its control-point polyline with opacity alpha (``core.strokes.lines.solid_stroke``:
 colour, coverage, height, opacity, orientation).
 
 Radii are given at 512 x 512 px and scale with the image:
@@ -47,15 +47,15 @@ import numpy as np
 from scipy import ndimage
 
 from ..analysis.run import analyze, check_image
-from ..measures.metrics import psnr
-from ..measures.stroke_metrics import stroke_shape
+from ..colour import hsv_to_rgb, rgb_to_hsv
 from ..params import Params
 from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Painting
 from ..strokes.canvas import Canvas
-from ..strokes.layout import hertzmann_anchors
-from ..strokes.stroke import Stroke, solid_stroke
-from ..version import __version__
+from ..strokes.layout import canvas_error, hertzmann_anchors
+from ..strokes.lines import solid_stroke
+from ..strokes.stroke import Stroke
+from .statistics import painting_statistics
 from .styles import HertzmannStyle, get_style
 
 REFERENCE_SIDE = 512
@@ -162,33 +162,6 @@ def jitter_colours(colours: np.ndarray, style: HertzmannStyle, rng: np.random.Ge
     return out.astype(np.float32)
 
 
-def rgb_to_hsv(rgb: np.ndarray) -> np.ndarray:
-    """(N, 3) RGB [0, 1] -> (N, 3) HSV, hue in [0, 1)."""
-    r, g, b = rgb[:, 0], rgb[:, 1], rgb[:, 2]
-    v = rgb.max(axis=1)
-    c = v - rgb.min(axis=1)
-    s = np.where(v > 0, c / np.where(v > 0, v, 1.0), 0.0)
-    cc = np.where(c > 0, c, 1.0)
-    hue = np.where(v == r, (g - b) / cc, np.where(v == g, 2.0 + (b - r) / cc, 4.0 + (r - g) / cc))
-    hue = np.where(c > 0, np.mod(hue / 6.0, 1.0), 0.0)
-    return np.stack([hue, s, v], axis=1)
-
-
-def hsv_to_rgb(hsv: np.ndarray) -> np.ndarray:
-    """(N, 3) HSV (hue in [0, 1)) -> (N, 3) RGB [0, 1]."""
-    h, s, v = hsv[:, 0], hsv[:, 1], hsv[:, 2]
-    k = np.mod(np.array([5.0, 3.0, 1.0])[None, :] + h[:, None] * 6.0, 6.0)
-    return v[:, None] - v[:, None] * s[:, None] * np.clip(np.minimum(k, 4.0 - k), 0.0, 1.0)
-
-
-def canvas_error(canvas: Canvas, reference: np.ndarray) -> np.ndarray:
-    """(H, W) float64 |reference - canvas| Euclidean RGB on 0-255; +inf where the canvas is bare (coverage 0)."""
-    diff = reference - canvas.colour
-    error = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff, dtype=np.float64)) * 255.0
-    error[canvas.coverage <= 0.0] = np.inf
-    return error
-
-
 def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressionist", progress: ProgressFn = None,
                     cancel: CancelFn = None, mask: Optional[np.ndarray] = None):
     """Paint an (H, W, 3) sRGB [0, 1] image by Hertzmann 1998 in the named style; returns a core.results.Painting.
@@ -201,7 +174,6 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
     """
     params.validate()
     chosen = get_style(style)
-    style_name = str(style).strip().lower().replace("-", "_")
     image = check_image(image)
     stage = Stage(progress, cancel)
     analysis = analyze(image, params, mask=mask, progress=stage.sub(0.0, 0.1).report if progress else None,
@@ -244,31 +216,13 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
                     layer_stage.report(done / max(1, len(order)),
                                        f"Layer {layer + 1}/{len(radii)}: {len(strokes)} strokes")
         per_layer.append(len(order))
-    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)
-    seconds = dict(analysis.seconds)
-    seconds["strokes"] = time.perf_counter() - t0
-    statistics = {
-        "strokes": len(strokes),
-        "strokes_per_layer": per_layer,
-        "grids": int(cells),
-        "psnr_db": round(psnr(canvas.colour, image), 3),
-        "seconds": {k: round(v, 4) for k, v in seconds.items()},
-        "width": int(w),
-        "height": int(h),
-        "height_mode": params.height_mode,
-        "seed": params.seed,
-        "version": __version__,
-        "method": "hertzmann98",
-        "style": style_name,
-        "layout": "hertzmann98",
-        "renderer": "lines",
-        "radii_px": list(radii),
-        "detail_strokes": 0,
-        "stroke_shape": stroke_shape(strokes),
-        "hertzmann_style": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(chosen).items()},
-    }
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)   # solid strokes keep [0, 1] up to float32 rounding
+    seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
+    statistics = painting_statistics(image, canvas.colour, strokes, per_layer, cells, 0, seconds, params,
+                                     "hertzmann98", style, "hertzmann98", "lines")
+    statistics["radii_px"] = list(radii)
+    statistics["hertzmann_style"] = {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(chosen).items()}
     stage.report(1.0, f"Painted {len(strokes)} strokes")
-    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)   # Eq. 4 keeps [0, 1] up to float32 rounding
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, orientation, strokes, analysis,
                     params, statistics)
 

@@ -9,19 +9,17 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..analysis.run import analyze, check_image
-from ..measures.metrics import psnr
-from ..measures.stroke_metrics import stroke_shape
 from ..params import Params
 from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Analysis, Painting
 from ..strokes.brush import brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import detail_anchors, size_map
-from ..strokes.layout import choose_anchors, hertzmann_anchors, painting_order, size_runs
+from ..strokes.layout import canvas_error, choose_anchors, hertzmann_anchors, painting_order, size_runs
 from ..strokes.rounds import paint_round
 from ..strokes.streams import visit_uniforms
 from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources
-from ..version import __version__
+from .statistics import painting_statistics
 from .styles import get_style
 
 
@@ -56,26 +54,10 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
                                 stage.sub(0.95, 1.0), one_by_one)
         strokes += details
         per_layer.append(len(details))
-    seconds = dict(analysis.seconds)
-    seconds["strokes"] = time.perf_counter() - t0
-    statistics = {
-        "strokes": len(strokes),
-        "strokes_per_layer": per_layer,
-        "detail_strokes": per_layer[-1] if params.detail_pass else 0,
-        "stroke_shape": stroke_shape(strokes),
-        "grids": int(len(analysis.grids)),
-        "psnr_db": round(psnr(canvas.colour, image), 3),
-        "seconds": {k: round(v, 4) for k, v in seconds.items()},
-        "width": int(image.shape[1]),
-        "height": int(image.shape[0]),
-        "height_mode": params.height_mode,
-        "seed": params.seed,
-        "version": __version__,
-        "method": params.method,
-        "style": params.style.strip().lower().replace("-", "_"),
-        "layout": params.layout,
-        "renderer": params.renderer,
-    }
+    seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
+    statistics = painting_statistics(image, canvas.colour, strokes, per_layer, len(analysis.grids),
+                                     per_layer[-1] if params.detail_pass else 0, seconds, params, params.method,
+                                     params.style, params.layout, params.renderer)
     stage.report(1.0, f"Painted {len(strokes)} strokes")
     np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)   # Eq. 4 keeps [0, 1] up to float32 rounding
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
@@ -218,9 +200,7 @@ def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sou
     per_layer: List[int] = []
     sizes = list(analysis.sizes)
     for layer, size in enumerate(sizes):
-        diff = reference - canvas.colour
-        error = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff, dtype=np.float64)) * 255.0
-        error[canvas.coverage <= 0.0] = np.inf
+        error = canvas_error(canvas, reference)
         anchors = hertzmann_anchors(error, max(1, int(style.grid * size / 2.0)), style.threshold)
         order = np.random.default_rng([params.seed, layer]).permutation(len(anchors))
         draws = visit_uniforms(params.seed, layer, order, 5)[:, 1:]

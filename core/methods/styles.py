@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Dict, Tuple
 
 from ..errors import ParameterError
-from ..params import STYLE_NAMES
+from ..params import STYLE_NAMES, canonical_style
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ assert tuple(STYLES) == STYLE_NAMES
 
 def get_style(name: str) -> HertzmannStyle:
     """The named style ('colorist-wash' is accepted for 'colorist_wash'); ParameterError otherwise."""
-    key = str(name).strip().lower().replace("-", "_")
+    key = canonical_style(name)
     if key not in STYLES:
         raise ParameterError(f"Unknown style {name!r}; choose impressionist, expressionist, colorist_wash or pointillist.")
     return STYLES[key]

@@ -44,8 +44,8 @@ PathLike = Union[str, os.PathLike]
 # procedural brush maps
 
 
-def _smoothstep(x: np.ndarray) -> np.ndarray:
-    """0 for x <= 0, 1 for x >= 1, the cubic 3x^2 - 2x^3 between (any shape, float64)."""
+def smoothstep(x: np.ndarray) -> np.ndarray:
+    """0 for x <= 0, 1 for x >= 1, the cubic 3x^2 - 2x^3 between (any shape; float x keeps its dtype)."""
     t = np.clip(x, 0.0, 1.0)
     return t * t * (3.0 - 2.0 * t)
 
@@ -67,9 +67,9 @@ def _brush_from_profile(rows: int, cols: int, half_length: np.ndarray, density: 
     x = (np.arange(cols) + 0.5 - cols / 2.0)[None, :]          # across, columns from the centre
     front = -half_length[None, :] + rng.uniform(0.0, ragged, cols)[None, :]
     back = half_length[None, :] - rng.uniform(0.0, ragged, cols)[None, :]
-    footprint = _smoothstep((v - front) / soft) * _smoothstep((back - v) / soft)
+    footprint = smoothstep((v - front) / soft) * smoothstep((back - v) / soft)
     if side_soft > 0:
-        footprint = footprint * _smoothstep((cols / 2.0 - np.abs(x)) / side_soft)
+        footprint = footprint * smoothstep((cols / 2.0 - np.abs(x)) / side_soft)
     level = rng.uniform(0.7, 1.0, cols)[None, :]
     noise = np.clip(1.0 + 0.06 * rng.standard_normal((rows, cols)), 0.8, 1.2)
     values = footprint * density * level * noise

@@ -45,18 +45,6 @@ def tip_grid(along: np.ndarray, across: np.ndarray) -> tuple:
     return rows, columns, int(rows.max()) + 1, int(columns.max()) + 1
 
 
-def row_weights(grid: np.ndarray, passes: float) -> tuple:
-    """Eq. 4 folded over all R rows of a brush at full contact, front row first.
-
-    grid: (R, W) bristle contact. Returns (weight (R, W): a_r prod_{t>r} (1 - a_t),
-    the share of row r's colour in the fold; log transmittance (W,)), float32.
-    """
-    strength = np.minimum(np.asarray(grid, np.float32), np.float32(MAX_INTENSITY))
-    log_keep = np.log1p(-strength) * np.float32(passes)
-    later = np.cumsum(log_keep[::-1], axis=0)[::-1] - log_keep                    # log prod over later rows
-    return -np.expm1(log_keep) * np.exp(later), log_keep.sum(axis=0)
-
-
 def run_colours(grid: np.ndarray, grid_colours: np.ndarray, passes: float, stroke: np.ndarray,
                 first_row: np.ndarray, last_row: np.ndarray) -> np.ndarray:
     """(K, W, 3) float32: the colour K track samples lay, each folding rows first_row .. last_row of its stroke.

@@ -5,12 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..workers import run_all, worker_count
-
-
-def grid_order(grids: np.ndarray) -> np.ndarray:
-    """Indices of (N, 4) grids (x0, y0, x1, y1) by area, largest first (ties keep partition order)."""
-    areas = (grids[:, 2] - grids[:, 0]).astype(np.int64) * (grids[:, 3] - grids[:, 1])
-    return np.argsort(-areas, kind="stable")
+from .canvas import Canvas
 
 
 def size_runs(sizes: np.ndarray) -> list:
@@ -117,6 +112,16 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
     anchors = np.zeros((n, 2), np.int64)
     anchors[owner[hit], 0], anchors[owner[hit], 1] = x[hit], y[hit]
     return anchors, chosen, chosen & ~cover
+
+
+def canvas_error(canvas: Canvas, reference: np.ndarray) -> np.ndarray:
+    """Hertzmann 1998's error, what ``hertzmann_anchors`` reads: (H, W) float64 Euclidean RGB distance between
+    ``reference`` (H, W, 3) sRGB [0, 1] and the canvas colour, on the 0-255 scale; +inf where the canvas is bare
+    (coverage 0)."""
+    diff = reference - canvas.colour
+    error = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff, dtype=np.float64)) * 255.0
+    error[canvas.coverage <= 0.0] = np.inf
+    return error
 
 
 def hertzmann_anchors(error: np.ndarray, spacing: int, threshold: float) -> np.ndarray:

@@ -20,6 +20,7 @@ from ..workers import balanced_runs, run_all, worker_count
 from .brush import BrushTip
 from .canvas import Canvas, pixel_rows
 from .compositing import Footprints, track_footprints
+from .lines import solid_stroke
 from .path import resample_by_length, tangent_angles
 from .planning import PlannedPaths, plan_paths, sample_spacing, samples_per_segment
 from .stroke import (
@@ -30,7 +31,6 @@ from .stroke import (
     colour_jitter,
     end_profile,
     ridge_profile,
-    solid_stroke,
 )
 
 # Curve samples (times bristles and channels, roughly) planned together at most: bounds the memory of planning.

@@ -1,11 +1,16 @@
-"""Brushwork figures of core/measures/stroke_metrics.py against values worked out by hand."""
+"""Brushwork figures of bench/brushwork_figures.py against values worked out by hand."""
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from core.measures.stroke_metrics import (
+from core.strokes import Stroke
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+from brushwork_figures import (  # noqa: E402
     detail_share,
     gradient_correlation,
     layer_strokes,
@@ -13,7 +18,6 @@ from core.measures.stroke_metrics import (
     speckle_share,
     width_contrast,
 )
-from core.strokes import Stroke
 
 
 def stroke(layer, anchor, size, path=((0.0, 0.0),)):
