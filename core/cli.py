@@ -19,7 +19,7 @@ from .errors import Cancelled, PaintReliefError, ParameterError
 from .figures.visualize import orientation_picture, partition_overlay
 from .files import budget, quiet, reading, signals, writing
 from .files.staging import output_folder
-from .params import STYLE_NAMES, Params
+from .params import STYLE_NAMES, Params, canonical_style
 from .progress import ConsoleProgress
 from .results import Analysis
 from .version import __version__
@@ -167,8 +167,8 @@ def params_from_args(args: argparse.Namespace) -> Params:
                          ("detail_pass", "detail_pass")):
         if hasattr(args, option):
             fields[name] = getattr(args, option)
-    if isinstance(fields.get("style"), str) and fields["style"].replace("-", "_") in STYLE_NAMES:
-        fields["style"] = fields["style"].replace("-", "_")
+    if isinstance(fields.get("style"), str) and canonical_style(fields["style"]) in STYLE_NAMES:
+        fields["style"] = canonical_style(fields["style"])
     return Params(**fields).validate()
 
 
