@@ -18,20 +18,19 @@ from typing import Callable, List, Sequence
 
 import numpy as np
 
-# Most workers used (memory bandwidth, not cores, bounds this work beyond a few).
-MAX_WORKERS = 4
+from . import tuning
 
 _pool = None
 _pool_lock = threading.Lock()
 
 
 def worker_count() -> int:
-    """How many runs a round is cut into: the usable cores, at most MAX_WORKERS."""
+    """How many runs a round is cut into: the usable cores, at most ``tuning.MAX_WORKERS``."""
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:                      # not on Linux
         cores = os.cpu_count() or 1
-    return max(1, min(MAX_WORKERS, cores))
+    return max(1, min(tuning.MAX_WORKERS, cores))
 
 
 def balanced_runs(cost: np.ndarray, parts: int, least: float) -> List[tuple]:
@@ -59,12 +58,8 @@ def run_all(work: Callable, items: Sequence) -> list:
     return list(_pool.map(work, items))
 
 
-BLOCK_PIXELS = 1 << 20
-"""Pixels in one block of rows of per-pixel work spread over the worker threads (``in_row_blocks``)."""
-
-
 def in_row_blocks(work: Callable, height: int, width: int) -> None:
     """work(rows) for slices ``rows`` of whole rows covering an image of ``height`` x ``width`` pixels,
-    about BLOCK_PIXELS each, on the worker threads (for per-pixel work writing its rows of an output)."""
-    step = max(1, BLOCK_PIXELS // max(width, 1))
+    about ``tuning.BLOCK_PIXELS`` each, on the worker threads (for per-pixel work writing its rows of an output)."""
+    step = max(1, tuning.BLOCK_PIXELS // max(width, 1))
     run_all(work, [slice(top, min(height, top + step)) for top in range(0, height, step)])

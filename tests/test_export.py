@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 
+from core import tuning
 from core.cli import main
 from core.files import reading, writing
 from core.files.export import (
@@ -37,7 +38,7 @@ def test_row_blocks_write_the_same_file_as_the_whole_array(tmp_path, monkeypatch
     data = rng.random((70, 33, 3), dtype=np.float32)
     writing.write_exr(tmp_path / "whole.exr", data, half=True)
     writing.write_png(tmp_path / "whole.png", data)
-    monkeypatch.setattr(writing, "BLOCK_PIXELS", 16 * 33)          # 16 rows a block: five blocks, the last short
+    monkeypatch.setattr(tuning, "BLOCK_PIXELS", 16 * 33)          # 16 rows a block: five blocks, the last short
     blocks = writing.RowBlocks(data.shape, lambda y0, y1: data[y0:y1])
     writing.write_exr(tmp_path / "blocks.exr", blocks, half=True)
     writing.write_png(tmp_path / "blocks.png", blocks)
@@ -50,7 +51,7 @@ def test_rows_that_need_their_neighbours_come_out_as_computed_whole(monkeypatch)
     colour = rng.random((50, 40, 3), dtype=np.float32)
     height = rng.random((50, 40), dtype=np.float32)
     orientation = rng.uniform(0, np.pi, (50, 40)).astype(np.float32)
-    monkeypatch.setattr(writing, "BLOCK_PIXELS", 16 * 40)
+    monkeypatch.setattr(tuning, "BLOCK_PIXELS", 16 * 40)
     for compute, whole, halo in (
             (lambda a, b: paper_lighting(colour[a:b], height[a:b], orientation[a:b]),
              paper_lighting(colour, height, orientation), 2),

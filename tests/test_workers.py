@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from test_rounds import photo, same_painting
 
-from core import workers
+from core import tuning, workers
 from core.methods import huang11
 from core.params import Params
 from core.strokes import canvas, layout, rounds
@@ -94,7 +94,7 @@ def test_row_bands_cut_the_rows_into_runs_of_about_equal_entries_and_pick_each_b
         np.testing.assert_array_equal(pixel, wanted[(wanted >= rows[0] * 30) & (wanted < rows[1] * 30)])
 
 def test_row_blocks_cover_every_row_once_in_blocks_of_about_the_block_pixels(monkeypatch):
-    monkeypatch.setattr(workers, "BLOCK_PIXELS", 70)
+    monkeypatch.setattr(tuning, "BLOCK_PIXELS", 70)
     seen = []
     workers.in_row_blocks(seen.append, 23, 10)
     rows = sorted((s.start, s.stop) for s in seen)
@@ -118,8 +118,8 @@ def test_analysis_in_blocks_of_rows_gives_the_same_bytes_as_in_one_block(monkeyp
                 orientation.orientation_field(lum, energy, params, scale=0.06))
 
     whole = analysed()
-    monkeypatch.setattr(workers, "BLOCK_PIXELS", 200)                                   # 3 rows a block
-    monkeypatch.setattr(importance, "CHUNK_PIXELS", 150)                                # 2 rows a splat
+    monkeypatch.setattr(tuning, "BLOCK_PIXELS", 200)                                   # 3 rows a block
+    monkeypatch.setattr(tuning, "BILATERAL_SPLAT_PIXELS", 150)                                # 2 rows a splat
     monkeypatch.setattr(importance, "worker_count", lambda: 3)
     cut = analysed()
     for one, many in zip(whole, cut, strict=True):

@@ -12,11 +12,9 @@ import math
 import numpy as np
 from scipy import ndimage
 
+from .. import tuning
 from ..colour import luminance
 from ..workers import run_all, worker_count
-
-CHUNK_PIXELS = 1 << 20
-"""The bilateral grid is splatted and read back this many pixels at a time."""
 
 
 def bilateral_filter(image: np.ndarray, sigma_spatial: float, sigma_range: float) -> np.ndarray:
@@ -40,7 +38,7 @@ def bilateral_filter(image: np.ndarray, sigma_spatial: float, sigma_range: float
     if sigma_spatial < 0.5 or h * w == 0:
         return img.copy()
     grid = BilateralGrid(h, w, sigma_spatial, sigma_range)
-    rows = max(1, CHUNK_PIXELS // w)               # row blocks keep the temporaries small on large images
+    rows = max(1, tuning.BILATERAL_SPLAT_PIXELS // w)   # row blocks keep the temporaries small on large images
     tasks = [(c, top) for c in range(channels) for top in range(0, h, rows)]
     sums = [grid.empty() for _ in range(channels)]
     workers = worker_count()

@@ -23,12 +23,12 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
 
+from .. import tuning
 from ..workers import in_row_blocks, run_all
 
 _PI32 = np.float32(math.pi)
 _TINY = 1e-12
 _SMOOTHING = 1e-6
-_CHUNK = 1024
 
 
 def _wrap_axial(theta: np.ndarray) -> np.ndarray:
@@ -203,7 +203,7 @@ def _solve_local(pts: np.ndarray, val: np.ndarray, sets: np.ndarray, smoothing: 
     c, k = sets.shape
     coeffs = np.empty((c, k + 1, val.shape[1]))
     eye = smoothing * np.eye(k)
-    chunk = max(1, _CHUNK * 1024 // ((k + 1) ** 2))
+    chunk = max(1, tuning.RBF_SOLVE_VALUES // ((k + 1) ** 2))
     with threadpool_limits(limits=1, user_api="blas"):
         for start in range(0, c, chunk):
             s = sets[start:start + chunk]
@@ -223,7 +223,7 @@ def _eval_local(pts: np.ndarray, sets: np.ndarray, coeffs: np.ndarray, query: np
     """Evaluate local interpolant number which[i] at query[i]: (m, 2), (m,) -> (m, d)."""
     out = np.empty((query.shape[0], coeffs.shape[2]))
     k = sets.shape[1]
-    chunk = max(1, _CHUNK * 256 // k)
+    chunk = max(1, tuning.RBF_EVAL_VALUES // k)
     for start in range(0, query.shape[0], chunk):
         q = query[start:start + chunk]
         wh = which[start:start + chunk]

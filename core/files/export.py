@@ -11,6 +11,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from .. import tuning
 from ..colour import srgb_to_linear
 from ..errors import InputError
 from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
@@ -39,10 +40,6 @@ PAINTING_FILES = ("color.exr", "height.exr", "opacity.exr", "orientation.exr", "
 
 NORMAL_FILE = "normal.exr"
 
-WRITERS = 2
-"""Files written at once: the EXR and PNG encoders and the NumPy work making their rows run side by side."""
-
-
 def file_digest(path: Path) -> dict:
     """{"bytes": size, "sha256": hex digest} of the file at ``path``."""
     data = Path(path).read_bytes()
@@ -55,9 +52,9 @@ def file_digests(folder: Path, names) -> dict:
 
 
 def run_all(tasks: Sequence[Callable[[], object]]) -> list:
-    """Run ``tasks`` on WRITERS threads; their results in order. The first failure (in task order) is raised
+    """Run ``tasks`` on ``tuning.WRITERS`` threads; their results in order. The first failure (in task order) is raised
     once all have finished, so no file is still being written when the caller cleans up."""
-    with ThreadPoolExecutor(WRITERS) as pool:
+    with ThreadPoolExecutor(tuning.WRITERS) as pool:
         futures = [pool.submit(task) for task in tasks]
     return [future.result() for future in futures]
 
@@ -126,7 +123,7 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
 
     The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
     half keeps 1/2048 of the value, far finer than paint height or opacity vary).
-    Images are made and written a block of rows at a time, WRITERS files at once.
+    Images are made and written a block of rows at a time, ``tuning.WRITERS`` files at once.
 
     color.exr    RGB, scene-linear Rec.709 (the sRGB painting converted)
     height.exr   Y, paint height (1 = one full bristle's contact)

@@ -20,6 +20,7 @@ from typing import Callable, Dict, Iterator, Optional, Sequence, Tuple, Union
 import numpy as np
 import OpenImageIO as oiio
 
+from .. import tuning
 from ..errors import OutputError, plain_cause
 from . import quiet
 from .image_files import CHANNEL_ORDER_ATTR, PathLike, oiio_error, reason
@@ -111,10 +112,6 @@ def _attribute_value(value):
     raise ValueError(f"Header attribute values must be str, int or float, got {type(value).__name__}.")
 
 
-BLOCK_PIXELS = 1 << 20
-"""About this many pixels are made and written at a time (see ``RowBlocks``)."""
-
-
 @dataclass(frozen=True)
 class RowBlocks:
     """An (H, W, C) float32 image made a block of rows at a time, so a large image is written in little memory.
@@ -134,9 +131,9 @@ class RowBlocks:
         return cls(pixels.shape, lambda y0, y1: pixels[y0:y1])
 
     def blocks(self) -> Iterator[Tuple[int, int, np.ndarray]]:
-        """(y0, y1, rows) for consecutive blocks of about BLOCK_PIXELS pixels (whole multiples of 16 rows)."""
+        """(y0, y1, rows) for consecutive blocks of about ``tuning.BLOCK_PIXELS`` pixels (whole multiples of 16 rows)."""
         height, width, channels = self.shape
-        step = max(16, BLOCK_PIXELS // width // 16 * 16)
+        step = max(16, tuning.BLOCK_PIXELS // width // 16 * 16)
         for y0 in range(0, height, step):
             y1 = min(height, y0 + step)
             block = self.rows(y0, y1)

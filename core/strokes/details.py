@@ -19,6 +19,7 @@ from typing import Dict
 import numpy as np
 from scipy import ndimage
 
+from .. import tuning
 from ..workers import in_row_blocks
 from .smoothing import SmoothedImage
 
@@ -54,11 +55,6 @@ def ring_footprint(smallest: int) -> np.ndarray:
     return d > inner
 
 
-RING_CHUNK_VALUES = 1 << 21
-"""Ring pixels gathered at once (candidates times ring size): bounds the memory of the ring test, whose ring
-grows with the square of the smallest brush (800 pixels at 16 MP)."""
-
-
 def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.ndarray = None) -> np.ndarray:
     """(H, W) bool: isolated point features of a lightness image (ALGORITHM §5, detail pass).
 
@@ -68,7 +64,7 @@ def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.nd
     more than ``contrast`` than every pixel of its ``ring_footprint`` but the
     RING_ALLOWANCE brightest (a light), or a 3 x 3 minimum darker by more than
     every one but the RING_ALLOWANCE darkest (a dark point). The ring is
-    gathered at the tested extremes only, RING_CHUNK_VALUES values at a time;
+    gathered at the tested extremes only, ``tuning.RING_CHUNK_VALUES`` values at a time;
     pixels beyond the border repeat the nearest one.
     """
     top = lum == ndimage.maximum_filter(lum, size=3)
@@ -79,7 +75,7 @@ def point_features(lum: np.ndarray, smallest: int, contrast: float, where: np.nd
     ring_mask = ring_footprint(smallest)
     dy, dx = np.nonzero(ring_mask)
     reach = ring_mask.shape[0] // 2
-    step = max(1, RING_CHUNK_VALUES // len(dy))
+    step = max(1, tuning.RING_CHUNK_VALUES // len(dy))
     for first in range(0, rows.size, step):
         r, c = rows[first:first + step], cols[first:first + step]
         ring = np.take(lum, np.clip(r[:, None] + (dy - reach), 0, lum.shape[0] - 1) * lum.shape[1]
