@@ -9,6 +9,7 @@ colour, height, opacity and coverage maps and identical stroke records.
 """
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -111,6 +112,23 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
                 alone.lay_one(footprint, 0, "accumulate", 0.5)
         for name in ("colour", "height", "opacity", "coverage"):
             assert getattr(kept, name).tobytes() == getattr(alone, name).tobytes()
+
+
+def test_a_canvas_of_arrays_that_are_not_contiguous_is_refused_rather_than_laid_on_a_copy():
+    # laying writes through flat views of the canvas; a strided array would be reshaped into a copy
+    from stamp_oracle import box_footprint
+
+    stroke = box_footprint(1, 1, np.full((3, 3), 0.3), np.tile([0.7, 0, 0], (3, 3, 1)), np.full((3, 3), 0.8),
+                           np.full((3, 3), 0.8), 6)
+    wide = Canvas.blank((6, 12), (0.9, 0.9, 0.9))
+    for name in ("colour", "coverage", "height", "opacity"):
+        arrays = {key: getattr(wide, key)[:, :6].copy() for key in ("colour", "coverage", "height", "opacity")}
+        arrays[name] = getattr(wide, name)[:, ::2]
+        with pytest.raises(ValueError, match="C-contiguous"):
+            Canvas(**arrays).lay(stroke, "over", 0.5)
+    laid = Canvas(**{key: getattr(wide, key)[:, :6].copy() for key in ("colour", "coverage", "height", "opacity")})
+    laid.lay(stroke, "over", 0.5)
+    assert np.allclose(laid.colour[2, 2], 0.3 * 0.9 + np.array([0.7, 0, 0]))
 
 
 def test_full_deposits_are_the_90th_percentile_of_each_strokes_positive_deposits():

@@ -80,27 +80,32 @@ class Canvas:
         np.not_equal(ordered[1:], ordered[:-1], out=new[1:])
         position = np.arange(len(ordered))
         rank = position - np.maximum.accumulate(np.where(new, position, 0))
-        if rank.max() < 2 ** 15:
-            rank = rank.astype(np.int16)                       # a radix sort
         order = by_pixel[np.argsort(rank, kind="stable")]      # pass after pass, each in the run's order
         passes = np.bincount(rank)
         at_all = np.take(pixel, order)
         keep, deposit = np.take(transmittance, order), np.take(deposit, order)
         raised = np.take(raised, order)
-        paint = np.take(pixel_rows(paint), order).view(np.float32).reshape(-1, 3)
+        paint = np.take(paint, order, axis=0)
         inverse = np.take(inverse, order)
-        colour, coverage = pixel_rows(self.colour.reshape(-1, 3)), self.coverage.ravel()
-        height, opacity = self.height.ravel(), self.opacity.ravel()
+        colour, coverage, height, opacity = self.flat()
         done = 0
         for size in passes.tolist():
             part = slice(done, done + size)
             done += size
             at = at_all[part]
-            new_colour, coverage[at], height[at], opacity[at] = composite(
-                np.take(colour, at).view(np.float32).reshape(-1, 3), np.take(coverage, at), np.take(height, at),
-                np.take(opacity, at), keep[part],
-                paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
-            colour[at] = pixel_rows(new_colour)
+            colour[at], coverage[at], height[at], opacity[at] = composite(
+                np.take(colour, at, axis=0), np.take(coverage, at), np.take(height, at), np.take(opacity, at),
+                keep[part], paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
+
+    def flat(self) -> tuple:
+        """Views of the canvas over its H W pixels: colour (H W, 3), coverage, height, opacity (H W,); what is
+        written through them is written on the canvas. ValueError if an array is not C-contiguous (it would be
+        reshaped into a copy, and the writes lost)."""
+        arrays = (self.colour, self.coverage, self.height, self.opacity)
+        if not all(values.flags.c_contiguous for values in arrays):
+            raise ValueError("the canvas's colour, coverage, height and opacity must be C-contiguous arrays "
+                             "(laying writes through flat views of them)")
+        return self.colour.reshape(-1, 3), self.coverage.reshape(-1), self.height.reshape(-1), self.opacity.reshape(-1)
 
     def lay_one(self, footprints: Footprints, stroke: int, height_mode: str, build: float) -> None:
         """Lay stroke ``stroke`` of ``footprints`` alone, on the whole box around the pixels it touches.
@@ -171,11 +176,6 @@ def band_entries(pieces: list, rows: tuple, shape: tuple) -> tuple:
     if len(parts) == 1:
         return parts[0]
     return tuple(np.concatenate(arrays) for arrays in zip(*parts, strict=True))
-
-
-def pixel_rows(values: np.ndarray) -> np.ndarray:
-    """(N,) void view of a C-contiguous (N, 3) float32 array, one item per row (rows gather and scatter as items)."""
-    return np.ascontiguousarray(values, np.float32).view(np.dtype((np.void, 12))).ravel()
 
 
 def inverse_full(full: np.ndarray) -> np.ndarray:

@@ -18,7 +18,7 @@ import numpy as np
 from ..params import Params
 from ..workers import balanced_runs, run_all, worker_count
 from .brush import BrushTip
-from .canvas import Canvas, pixel_rows
+from .canvas import Canvas
 from .compositing import Footprints, track_footprints
 from .lines import solid_stroke
 from .path import resample_by_length, tangent_angles
@@ -131,8 +131,8 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
         pixel, transmittance, paint = pixel[entries], transmittance[entries], paint[entries]
         starts = np.zeros(int(np.count_nonzero(strokes)) + 1, np.int64)
         np.cumsum(counts[strokes], out=starts[1:])
-    before = np.take(pixel_rows(colour.reshape(-1, 3)), pixel).view(np.float32).reshape(-1, 3)
-    target = np.take(pixel_rows(reference.reshape(-1, 3)), pixel).view(np.float32).reshape(-1, 3)
+    before = np.take(colour.reshape(-1, 3), pixel, axis=0)
+    target = np.take(reference.reshape(-1, 3), pixel, axis=0)
     after = before * transmittance[:, None]
     after += paint
     after -= target
