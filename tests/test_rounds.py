@@ -1,14 +1,18 @@
 """The round engine against its one-at-a-time reference: the same bytes for every map and every stroke.
 
-``paint(..., one_by_one=True)`` plans each stroke of a round alone against
-the canvas as the round began and lays each alone on its whole box
-(``Canvas.lay_one``); the engine plans a round's strokes together and lays
-them pass by pass (``Canvas.lay``). Random small photos, stroke sizes,
-brushes, height modes, layouts, path rules and seeds must give identical
-colour, height, opacity and coverage maps and identical stroke records.
+The reference (``tests/one_by_one.py``) plans each stroke of a round alone
+against the canvas as the round began and lays each alone on its whole box;
+the engine plans a round's strokes together and lays them pass by pass
+(``Canvas.lay``). Random small photos, stroke sizes, brushes, height modes,
+layouts, path rules and seeds must give identical colour, height, opacity
+and coverage maps and identical stroke records. The reference is built of
+the engine's own pieces, so this proves that planning together, runs,
+chunks and passes change no byte, not that the bytes are right (the
+stamp-by-stamp oracle and the by-hand tests hold the pieces to that).
 """
 
 import numpy as np
+import one_by_one
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -59,7 +63,7 @@ def test_the_engine_paints_the_bytes_of_one_stroke_at_a_time(seed, h, w, kind, s
     params = Params(seed=seed, stroke_sizes=sizes, brush=brush, height_mode=height_mode, layout=layout,
                     path_rule=path_rule, detail_pass=detail_pass, layers=layers, size_reference_megapixels=0.003)
     engine = huang11.paint(image, params)
-    reference = huang11.paint(image, params, one_by_one=True)
+    reference = one_by_one.paint(image, params)
     same_painting(engine, reference)
 
 
@@ -69,7 +73,7 @@ def test_a_round_lays_overlapping_strokes_in_order():
     params = Params(seed=2, stroke_sizes=(12,), layers=2, max_length=16, min_length=5,
                     size_reference_megapixels=0.0016)
     engine = huang11.paint(image, params)
-    reference = huang11.paint(image, params, one_by_one=True)
+    reference = one_by_one.paint(image, params)
     same_painting(engine, reference)
     assert len(engine.strokes) >= 8
 
@@ -93,8 +97,8 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
     for first, second in ((red, blue), (blue, red)):
         together, apart = Canvas.blank((6, 6), (0.9, 0.9, 0.9)), Canvas.blank((6, 6), (0.9, 0.9, 0.9))
         together.lay(both(first, second), "accumulate", 0.5)
-        apart.lay_one(first, 0, "accumulate", 0.5)
-        apart.lay_one(second, 0, "accumulate", 0.5)
+        one_by_one.lay_one(apart, first, 0, "accumulate", 0.5)
+        one_by_one.lay_one(apart, second, 0, "accumulate", 0.5)
         for name in ("colour", "height", "opacity", "coverage"):
             assert getattr(together, name).tobytes() == getattr(apart, name).tobytes()
     # the shared pixel (3, 3) shows the later stroke on top
@@ -108,7 +112,7 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
         kept.lay(both(red, blue), "accumulate", 0.5, np.array(keep))
         for footprint, laid in zip((red, blue), keep, strict=True):
             if laid:
-                alone.lay_one(footprint, 0, "accumulate", 0.5)
+                one_by_one.lay_one(alone, footprint, 0, "accumulate", 0.5)
         for name in ("colour", "height", "opacity", "coverage"):
             assert getattr(kept, name).tobytes() == getattr(alone, name).tobytes()
 
@@ -171,8 +175,8 @@ def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, pa
 
 def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: Params, reference: np.ndarray):
     """Squared error mended and spoiled by one stroke, pixel by pixel in a Python loop."""
-    from core.strokes.rounds import footprints_of
-    fp = footprints_of(plan, size, tip, params, canvas.height.shape)
+    from core.strokes.rounds import strokes_footprints
+    fp = strokes_footprints(plan, size, tip, params, canvas.height.shape)
     mended = spoiled = 0.0
     for k in range(fp.starts[0], fp.starts[1]):
         y, x = divmod(int(fp.pixel[k]), canvas.colour.shape[1])
@@ -186,7 +190,7 @@ def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: P
 
 
 def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
-    from core.strokes.rounds import footprints_of, improves
+    from core.strokes.rounds import improves, strokes_footprints
     params = Params(seed=1)
     h, w, size = 40, 60, 8
     light = np.full((h, w, 3), 0.8, np.float32)
@@ -195,7 +199,8 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 20), size, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, light)
     assert mended > 0 and spoiled == 0
-    assert improves(canvas.colour, footprints_of(plan, size, tip, params, (h, w)), light, 2.0).tolist() == [True]
+    assert improves(canvas.colour, strokes_footprints(plan, size, tip, params, (h, w)), light,
+                    2.0).tolist() == [True]
     # the same stroke over a canvas that already matches a dark line beside it: a light stroke anchored
     # one row off a two-pixel dark line mends its own row and spoils the line
     line = light.copy()
@@ -206,7 +211,7 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 19), 2, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, 2, tip, params, line)
     assert 0 < mended <= 2.0 * spoiled, (mended, spoiled)
-    footprints = footprints_of(plan, 2, tip, params, (h, w))
+    footprints = strokes_footprints(plan, 2, tip, params, (h, w))
     assert improves(canvas.colour, footprints, line, 2.0).tolist() == [False]
     assert improves(canvas.colour, footprints, line, 0.5 * mended / spoiled).tolist() == [True]
 

@@ -47,7 +47,7 @@ class Canvas:
         The k-th stroke to touch a pixel in the run is laid on it in the k-th
         pass, every pixel of a pass at once: each pixel sees its strokes in
         the run's order, so the canvas is exactly what laying the strokes one
-        by one gives (``lay_one``). The arithmetic is ``composite``'s. Bands of
+        by one gives. The arithmetic is ``composite``'s. Bands of
         rows holding about equal shares of the entries are laid side by side
         on the worker threads (a pixel's strokes all lie in its band), each
         band picking its own entries out of the pieces.
@@ -101,34 +101,6 @@ class Canvas:
                 np.take(opacity, at), keep[part],
                 paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
             colour[at] = pixel_rows(new_colour)
-
-    def lay_one(self, footprints: Footprints, stroke: int, height_mode: str, build: float) -> None:
-        """Lay stroke ``stroke`` of ``footprints`` alone, on the whole box around the pixels it touches.
-
-        The one-at-a-time reference of ``lay``: the same ``composite`` over
-        the box, where the pixels the stroke does not touch take
-        transmittance 1 and no paint, deposit or height (which leaves them as
-        they are).
-        """
-        entries = slice(int(footprints.starts[stroke]), int(footprints.starts[stroke + 1]))
-        pixel = footprints.pixel[entries]
-        if pixel.size == 0:
-            return
-        rows, columns = np.divmod(pixel, self.height.shape[1])
-        top, left = int(rows.min()), int(columns.min())
-        shape = (int(rows.max()) - top + 1, int(columns.max()) - left + 1)
-        local = (rows - top, columns - left)
-        keep, paint = np.ones(shape, np.float32), np.zeros(shape + (3,), np.float32)
-        deposit, stroke_height = np.zeros(shape, np.float32), np.zeros(shape, np.float32)
-        keep[local] = footprints.transmittance[entries]
-        paint[local] = footprints.paint[entries]
-        deposit[local] = footprints.deposit[entries]
-        stroke_height[local] = footprints.height[entries]
-        box = (slice(top, top + shape[0]), slice(left, left + shape[1]))
-        inverse = np.full(shape, inverse_full(footprints.full[stroke:stroke + 1])[0], np.float32)
-        (self.colour[box], self.coverage[box], self.height[box], self.opacity[box]) = composite(
-            self.colour[box], self.coverage[box], self.height[box], self.opacity[box], keep, paint, deposit,
-            stroke_height, inverse, height_mode, build)
 
 
 BAND_SAMPLE = 8

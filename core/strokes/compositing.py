@@ -56,17 +56,6 @@ class Footprints:
     height: np.ndarray
     full: np.ndarray
 
-    @staticmethod
-    def joined(parts: list) -> "Footprints":
-        """The footprints of several runs of strokes, one run after another."""
-        if len(parts) == 1:
-            return parts[0]
-        offsets = np.cumsum([0] + [p.starts[-1] for p in parts[:-1]])
-        starts = np.concatenate([[0]] + [p.starts[1:] + offset for p, offset in zip(parts, offsets, strict=True)])
-        join = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
-        return Footprints(starts.astype(np.int64), join("pixel"), join("transmittance"), join("paint"),
-                          join("deposit"), join("height"), join("full"))
-
 
 def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
     """(N,) float32: the 90th percentile of the positive entries of each of N runs of ``deposit`` (E,) >= 0.

@@ -4,9 +4,7 @@ A round's strokes are planned (bristle colours, path, stopping tests)
 against the canvas as it stood when the round began, all together as
 arrays; they are then laid in the round's order, each stroke's Eq. 4
 contributions after the previous one's, so overlaps composite exactly as
-laying them one by one would. ``paint_round(..., one_by_one=True)`` is that
-one-at-a-time reference: each stroke planned alone against the same canvas,
-then laid alone on its whole box. Both give the same bytes.
+laying them one by one would.
 """
 
 from __future__ import annotations
@@ -57,7 +55,7 @@ def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Para
 
 def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
                 layer: int, tip: BrushTip, draws: np.ndarray, params: Params,
-                one_by_one: bool = False, judged: np.ndarray = None) -> List[Stroke]:
+                judged: np.ndarray = None) -> List[Stroke]:
     """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
 
     draws: (N, 4) uniform numbers of each stroke's own stream (its colour
@@ -65,25 +63,12 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
     stroke i is laid only if it mends more than judged[i] times the error
     it spoils (``improves``), judged alone on the canvas as the round found
     it; 0 lays it unjudged (all are, by the 'lines' renderer).
-    With ``one_by_one`` each stroke is planned and laid alone (the
-    reference of the same rule).
     """
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     if len(anchors) == 0:
         return []
     if judged is not None:
         judged = None if params.renderer == "lines" else np.asarray(judged, np.float64)
-    if one_by_one:
-        planned = [plan_round(canvas, sources, orientation, anchors[i:i + 1], size, tip, draws[i:i + 1], params)
-                   for i in range(len(anchors))]
-        if judged is not None:
-            planned = [plan for plan, ratio in zip(planned, judged.tolist(), strict=True)
-                       if not ratio or improves(canvas.colour, footprints_of(plan, size, tip, params,
-                                                                             canvas.height.shape),
-                                                sources.reference, ratio)[0]]
-        for plan in planned:
-            lay_round(canvas, plan, size, tip, params, one_by_one=True)
-        return [stroke for plan in planned for stroke in records(plan, size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
     chunks = lay_chunks(plan["paths"], tip, size)
     if judged is not None and judged.any():
@@ -225,8 +210,8 @@ def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray
             "angles": angles}
 
 
-def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params, one_by_one: bool = False) -> None:
-    """Lay a plan's strokes on ``canvas`` in order (each alone on its box when ``one_by_one``)."""
+def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params) -> None:
+    """Lay a plan's strokes on ``canvas`` in order."""
     paths = plan["paths"]
     if params.renderer == "lines":
         every = max(1, int(size) // 4)
@@ -236,24 +221,14 @@ def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Para
             solid_stroke(canvas, line, 0.5 * size, plan["anchor_colours"][i], 1.0, params.height_mode,
                          params.height_build)
         return
-    if one_by_one:
-        footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
-        for i in range(len(footprints.starts) - 1):
-            canvas.lay_one(footprints, i, params.height_mode, params.height_build)
-    else:
-        canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
-                   params.height_build)
+    canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
+               params.height_build)
 
 
 def footprint_runs(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> List[Footprints]:
     """The ``Footprints`` of consecutive runs of a plan's strokes on a canvas of ``shape`` (H, W), made on the
     worker threads."""
     return in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape))
-
-
-def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W)."""
-    return Footprints.joined(footprint_runs(plan, size, tip, params, shape))
 
 
 def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
@@ -281,7 +256,7 @@ def in_runs(plan: dict, size: int, tip: BrushTip, work) -> list:
 
 
 def strokes_footprints(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """``footprints_of`` of one run of strokes."""
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together."""
     stamps, directions, contact, relief, starts = stamp_paths(plan["paths"], plan["angles"], size, params)
     rows = max(1.0, tip.length)
     return track_footprints(stamps, directions, starts, tip, plan["colours"], shape,
