@@ -161,8 +161,8 @@ def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch
     same_painting(whole, chunked)
 
 
-def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, params: Params) -> dict:
-    """The plan of one stroke of ``size`` px anchored at (x, y), colours taken from ``reference``."""
+def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, params: Params) -> tuple:
+    """(The plan of one stroke of ``size`` px anchored at (x, y), colours taken from ``reference``; its tip)."""
     from core.strokes.brush import brush_tip, load_brush
     from core.strokes.rounds import plan_round
     from core.strokes.stroke import colour_sources
@@ -173,7 +173,7 @@ def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, pa
     return plan, tip
 
 
-def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: Params, reference: np.ndarray):
+def mend_and_spoil_by_hand(canvas: Canvas, plan, size: int, tip, params: Params, reference: np.ndarray):
     """Squared error mended and spoiled by one stroke, pixel by pixel in a Python loop."""
     from core.strokes.rounds import strokes_footprints
     fp = strokes_footprints(plan, size, tip, params, canvas.height.shape)
@@ -257,7 +257,7 @@ def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it
     for ratio, laid in ((0.0, 1), (0.5, 0)):
         painted = Canvas(canvas.colour.copy(), canvas.coverage.copy(), canvas.height.copy(), canvas.opacity.copy())
         strokes = paint_round(painted, sources, orientation, np.array([(30, 20)]), size, 1, tip, np.full((1, 4), 0.5),
-                              params, judged=np.array([ratio]))
+                              params, ratios=np.array([ratio]))
         assert len(strokes) == laid
         assert (painted.colour[20, 40] == sky[20, 40]).all() == (laid == 0)
 

@@ -37,12 +37,12 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def lay(self, footprints: Footprints | list, height_mode: str, build: float, keep: np.ndarray = None) -> None:
+    def lay(self, footprints: Footprints | list, height_mode: str, build: float, kept: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
         footprints: the run's Footprints, or a list of the Footprints of its
         consecutive pieces (laid as one run, without joining them first).
-        keep: optional (N,) bool over the run's N strokes, lay only those
+        kept: optional (N,) bool over the run's N strokes, lay only those
         where it is True (as if the others were not in the run).
         The k-th stroke to touch a pixel in the run is laid on it in the k-th
         pass, every pixel of a pass at once: each pixel sees its strokes in
@@ -55,11 +55,11 @@ class Canvas:
         pieces, first = [], 0
         for part in [footprints] if isinstance(footprints, Footprints) else footprints:
             counts = np.diff(part.starts)
-            kept = None if keep is None else np.asarray(keep[first:first + len(counts)], bool)
+            part_kept = None if kept is None else np.asarray(kept[first:first + len(counts)], bool)
             first += len(counts)
-            if part.pixel.size == 0 or (kept is not None and not kept.any()):
+            if part.pixel.size == 0 or (part_kept is not None and not part_kept.any()):
                 continue
-            laid = None if kept is None or kept.all() else np.repeat(kept, counts)
+            laid = None if part_kept is None or part_kept.all() else np.repeat(part_kept, counts)
             pieces.append(((part.pixel, part.transmittance, part.paint, part.deposit, part.height,
                             np.repeat(inverse_full(part.full), counts)), laid))
         if not pieces:
@@ -85,7 +85,7 @@ class Canvas:
         order = by_pixel[np.argsort(rank, kind="stable")]      # pass after pass, each in the run's order
         passes = np.bincount(rank)
         at_all = np.take(pixel, order)
-        keep, deposit = np.take(transmittance, order), np.take(deposit, order)
+        transmittance, deposit = np.take(transmittance, order), np.take(deposit, order)
         raised = np.take(raised, order)
         paint = np.take(pixel_rows(paint), order).view(np.float32).reshape(-1, 3)
         inverse = np.take(inverse, order)
@@ -98,7 +98,7 @@ class Canvas:
             at = at_all[part]
             new_colour, coverage[at], height[at], opacity[at] = composite(
                 np.take(colour, at).view(np.float32).reshape(-1, 3), np.take(coverage, at), np.take(height, at),
-                np.take(opacity, at), keep[part],
+                np.take(opacity, at), transmittance[part],
                 paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
             colour[at] = pixel_rows(new_colour)
 
@@ -157,16 +157,17 @@ def inverse_full(full: np.ndarray) -> np.ndarray:
 
 
 def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opacity: np.ndarray,
-              keep: np.ndarray, paint: np.ndarray, deposit: np.ndarray, stroke_height: np.ndarray,
+              transmittance: np.ndarray, paint: np.ndarray, deposit: np.ndarray, stroke_height: np.ndarray,
               inverse: np.ndarray, height_mode: str, build: float) -> tuple:
     """One stroke laid on canvas values (ALGORITHM §6): new (colour, coverage, height, opacity), all float32.
 
     Every argument is an array over the same pixels (colour and paint with
-    a last axis of 3): keep the stroke's transmittance, paint what it lays
-    on top, deposit and stroke_height its contact and height there, inverse
-    1 / its full deposit (its 90th-percentile deposit; 0 if it has none).
-    Colour by Eq. 4 (folded): C keep + paint; coverage as the same stroke
-    painted in white. The stroke's opacity o = a f, with a = 1 - keep its
+    a last axis of 3): transmittance T the share of the old colour the
+    stroke lets show through, paint what it lays on top, deposit and
+    stroke_height its contact and height there, inverse 1 / its full
+    deposit (its 90th-percentile deposit; 0 if it has none).
+    Colour by Eq. 4 (folded): C T + paint; coverage as the same stroke
+    painted in white. The stroke's opacity o = a f, with a = 1 - T its
     colour alpha and f = min(1, deposit / full) how fully its paint covers,
     so the opacity follows the bristles' real footprint and fades with them
     at the edges and ends. Height, with h the stroke's height:
@@ -183,8 +184,8 @@ def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opac
     stroke's body, so crowded small strokes leave no groove between them.
     Opacity A = o + (1 - o) A.
     """
-    colour = colour * keep[..., None] + paint
-    alpha = np.float32(1.0) - keep
+    colour = colour * transmittance[..., None] + paint
+    alpha = np.float32(1.0) - transmittance
     coverage = coverage + (np.float32(1.0) - coverage) * alpha
     fullness = np.minimum(deposit * inverse, np.float32(1.0))
     o = alpha * fullness

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..workers import run_all, worker_count
@@ -30,7 +32,15 @@ def painting_order(grids: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     return np.lexsort((np.arange(len(grids)), -areas, -np.asarray(sizes, np.int64)))
 
 
-def grid_pixels(grids: np.ndarray) -> tuple:
+class GridPixels(NamedTuple):
+    """The P pixels of N grids, grid after grid; grid i's pixels are [starts[i], starts[i + 1])."""
+
+    x: np.ndarray               # int64 (P,) columns
+    y: np.ndarray               # int64 (P,) rows
+    starts: np.ndarray          # int64 (N + 1,)
+
+
+def grid_pixels(grids: np.ndarray) -> GridPixels:
     """The pixels of (N, 4) grids (x0, y0, x1, y1), grid after grid in row-major order:
     (x (P,), y (P,), starts (N + 1,)), grid i's pixels [starts[i], starts[i + 1])."""
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
@@ -40,7 +50,7 @@ def grid_pixels(grids: np.ndarray) -> tuple:
     np.cumsum(areas, out=starts[1:])
     owner = np.repeat(np.arange(len(grids)), areas)
     ly, lx = np.divmod(np.arange(starts[-1]) - starts[owner], widths[owner])
-    return grids[owner, 0] + lx, grids[owner, 1] + ly, starts
+    return GridPixels(grids[owner, 0] + lx, grids[owner, 1] + ly, starts)
 
 
 # Grid pixels looked at together at most when choosing anchors (bounds the memory: about 250 bytes each).
@@ -49,8 +59,16 @@ ANCHOR_CHUNK_PIXELS = 1 << 18
 ANCHOR_LEAST_PIXELS = 1 << 16
 
 
+class ChosenAnchors(NamedTuple):
+    """The anchors of N grids of one layer and stroke size."""
+
+    anchors: np.ndarray         # int64 (N, 2) (x, y) px, meaningful where ``chosen``
+    chosen: np.ndarray          # bool (N,) the grid gets a stroke
+    by_difference: np.ndarray   # bool (N,) chosen by rule 2 (the canvas differs from the reference)
+
+
 def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
-                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
+                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> ChosenAnchors:
     """This layer's anchors (x, y) in N (N, 4) grids (x0, y0, x1, y1) of one stroke size, all at once.
 
     coverage: (H, W) in [0, 1], how fully each pixel is painted (the painter
@@ -68,8 +86,6 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        tied pixel floor(u k) of the k tied ones in row-major order, u being
        the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
        line up on grid corners.
-    Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke,
-    by_difference (N,) bool: by rule 2).
     Grids are looked at in runs on the worker threads, ANCHOR_CHUNK_PIXELS
     pixels at a time in all (each grid's choice is its own).
     """
@@ -83,12 +99,12 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
                                                 difference_threshold, ties[run]),
                     [slice(a, b) for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)])
     if not parts:
-        return np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool)
-    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
+        return ChosenAnchors(np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool))
+    return ChosenAnchors(*(np.concatenate(arrays) for arrays in zip(*parts, strict=True)))
 
 
 def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
-                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
+                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> ChosenAnchors:
     """``choose_anchors`` of a chunk of grids."""
     n = len(grids)
     x, y, starts = grid_pixels(grids)
@@ -116,7 +132,7 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
     hit = np.flatnonzero(candidate & (rank == before[owner] + pick[owner]))
     anchors = np.zeros((n, 2), np.int64)
     anchors[owner[hit], 0], anchors[owner[hit], 1] = x[hit], y[hit]
-    return anchors, chosen, chosen & ~cover
+    return ChosenAnchors(anchors, chosen, chosen & ~cover)
 
 
 def hertzmann_anchors(error: np.ndarray, spacing: int, threshold: float) -> np.ndarray:

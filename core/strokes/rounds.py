@@ -9,7 +9,8 @@ laying them one by one would.
 
 from __future__ import annotations
 
-from typing import List
+from dataclasses import dataclass
+from typing import List, NamedTuple
 
 import numpy as np
 
@@ -44,45 +45,99 @@ WORKER_LEAST_SAMPLES = 1 << 15
 WORKER_LEAST_STROKES = 64
 
 
-def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
-    """Stamps one px apart along N planned paths: (stamps (M, 2), directions (M,), contact (M,), relief (M,), starts (N + 1,))."""
-    stamps, arc, starts = resample_by_length(paths.samples, paths.first, paths.last)
-    directions = tangent_angles(stamps, starts, angles)
-    total = np.repeat(arc[starts[1:] - 1], np.diff(starts))
-    contact, relief = end_profile(arc, total, size, params.taper, params.lift_buildup)
-    return stamps, directions, contact, relief, starts
+@dataclass
+class RoundPlan:
+    """Everything N strokes of a round need to be laid, in the round's order.
+
+    anchors: int64 (N, 2) (x, y) px.
+    colours: float32 (N, B, 3) sRGB [0, 1], the colour of every bristle of the brush (Eq. 5).
+    anchor_colours: float32 (N, 3) sRGB [0, 1], each stroke's colour at its anchor (what it records).
+    paths: the strokes' kept curves.
+    angles: float64 (N,) radians, the orientation field at each anchor.
+    ratios: float64 (N,) >= 0 or None: stroke i is laid only if it mends more than ratios[i] times the error
+            it spoils (``improves``), 0 lays it unjudged; None when the round lays every stroke.
+    """
+
+    anchors: np.ndarray
+    colours: np.ndarray
+    anchor_colours: np.ndarray
+    paths: PlannedPaths
+    angles: np.ndarray
+    ratios: np.ndarray = None
+
+    def subset(self, index) -> "RoundPlan":
+        """The plan of some of the strokes, in order: ``index`` a slice or an ascending (K,) int array."""
+        paths = self.paths
+        return RoundPlan(self.anchors[index], self.colours[index], self.anchor_colours[index],
+                         PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment),
+                         self.angles[index], None if self.ratios is None else self.ratios[index])
+
+    @staticmethod
+    def joined(parts: list) -> "RoundPlan":
+        """The plan of several runs of strokes (unjudged), one run after another."""
+        join = lambda arrays: np.concatenate(list(arrays))  # noqa: E731
+        return RoundPlan(join(p.anchors for p in parts), join(p.colours for p in parts),
+                         join(p.anchor_colours for p in parts),
+                         PlannedPaths(join(p.paths.samples for p in parts), join(p.paths.first for p in parts),
+                                      join(p.paths.last for p in parts), parts[0].paths.per_segment),
+                         join(p.angles for p in parts))
+
+
+class Stamps(NamedTuple):
+    """M stamps one px apart along N strokes' paths; stroke i's stamps are [starts[i], starts[i + 1])."""
+
+    points: np.ndarray          # float64 (M, 2) (x, y) px
+    directions: np.ndarray      # float64 (M,) radians, the direction of travel
+    contact: np.ndarray         # float32 (M,) in (0, 1], the brush's pressure (``end_profile``)
+    relief: np.ndarray          # float32 (M,) >= 1, paint gathering where the brush lifts
+    starts: np.ndarray          # int64 (N + 1,)
+
+
+class JudgedFootprints(NamedTuple):
+    """What N strokes lay and whether each is laid."""
+
+    runs: List[Footprints]      # the Footprints of consecutive runs of the strokes
+    mends: np.ndarray           # (N,) bool: the stroke ``improves`` the canvas by its ratio
+
+
+def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> Stamps:
+    """Stamps one px apart along N planned paths; ``angles`` (N,) the direction a stroke of one stamp takes."""
+    resampled = resample_by_length(paths.samples, paths.first, paths.last)
+    starts = resampled.starts
+    total = np.repeat(resampled.arc[starts[1:] - 1], np.diff(starts))
+    profile = end_profile(resampled.arc, total, size, params.taper, params.lift_buildup)
+    return Stamps(resampled.stamps, tangent_angles(resampled.stamps, starts, angles), profile.contact,
+                  profile.relief, starts)
 
 
 def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
                 layer: int, tip: BrushTip, draws: np.ndarray, params: Params,
-                judged: np.ndarray = None) -> List[Stroke]:
+                ratios: np.ndarray = None) -> List[Stroke]:
     """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
 
     draws: (N, 4) uniform numbers of each stroke's own stream (its colour
-    perturbation, ``colour_jitter``). judged: optional (N,) float >= 0,
-    stroke i is laid only if it mends more than judged[i] times the error
+    perturbation, ``colour_jitter``). ratios: optional (N,) float >= 0,
+    stroke i is laid only if it mends more than ratios[i] times the error
     it spoils (``improves``), judged alone on the canvas as the round found
     it; 0 lays it unjudged (all are, by the 'lines' renderer).
     """
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     if len(anchors) == 0:
         return []
-    if judged is not None:
-        judged = None if params.renderer == "lines" else np.asarray(judged, np.float64)
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
-    chunks = lay_chunks(plan["paths"], tip, size)
-    if judged is not None and judged.any():
-        plan["ratios"] = judged
-        kept = judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference)
-        return records(subset(plan, kept), size, layer)
+    chunks = lay_chunks(plan.paths, tip, size)
+    if ratios is not None and params.renderer != "lines" and np.any(ratios):
+        plan.ratios = np.asarray(ratios, np.float64)
+        indices = judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference)
+        return records(plan.subset(indices), size, layer)
     for first, stop in chunks:
-        lay_round(canvas, subset(plan, slice(first, stop)), size, tip, params)
+        lay_round(canvas, plan.subset(slice(first, stop)), size, tip, params)
     return records(plan, size, layer)
 
 
-def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: BrushTip, params: Params,
+def judge_and_lay(canvas: Canvas, plan: RoundPlan, chunks: list, size: int, tip: BrushTip, params: Params,
                   reference: np.ndarray) -> np.ndarray:
-    """Judge a plan's strokes by their ``plan["ratios"]`` (``improves``; 0 keeps a stroke unjudged) on the canvas
+    """Judge a plan's strokes by their ``plan.ratios`` (``improves``; 0 lays a stroke unjudged) on the canvas
     as the round found it, and lay the kept ones in order, one of ``lay_chunks``' (first, stop) ``chunks`` after
     another; returns the kept strokes' indices, ascending.
 
@@ -91,14 +146,14 @@ def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: Brus
     copy of the canvas colour taken before its first chunk is laid (the judge reads nothing else).
     """
     found = canvas.colour.copy() if len(chunks) > 1 else canvas.colour
-    kept = []
+    indices = []
     for first, stop in chunks:
-        part = subset(plan, slice(first, stop))
-        footprints, mends = judged_footprints(part, size, tip, params, found, reference)
-        keep = mends | (part["ratios"] == 0)
-        canvas.lay(footprints, params.height_mode, params.height_build, keep)
-        kept.append(first + np.flatnonzero(keep))
-    return np.concatenate(kept)
+        part = plan.subset(slice(first, stop))
+        judged = judged_footprints(part, size, tip, params, found, reference)
+        kept = judged.mends | (part.ratios == 0)
+        canvas.lay(judged.runs, params.height_mode, params.height_build, kept)
+        indices.append(first + np.flatnonzero(kept))
+    return np.concatenate(indices)
 
 
 def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, ratio,
@@ -131,14 +186,6 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
     return mended > ratio * spoiled
 
 
-def subset(plan: dict, index) -> dict:
-    """The plan of some of ``plan``'s strokes, in order: ``index`` a slice or ascending (K,) int array."""
-    paths = plan["paths"]
-    part = {key: value[index] for key, value in plan.items() if key != "paths"}
-    part["paths"] = PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment)
-    return part
-
-
 def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
     """[(first, stop), ...]: runs of consecutive strokes whose track samples times brush columns stay within
     LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
@@ -162,12 +209,10 @@ def track_costs(paths: PlannedPaths, tip: BrushTip, size: int) -> np.ndarray:
 
 
 def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
-               tip: BrushTip, draws: np.ndarray, params: Params) -> dict:
-    """Everything N strokes need to be laid, planned against ``canvas`` as it is now.
+               tip: BrushTip, draws: np.ndarray, params: Params) -> RoundPlan:
+    """The (unjudged) plan of N strokes, planned against ``canvas`` as it is now.
 
-    Returns {"anchors" (N, 2), "colours" (N, B, 3) bristle colours,
-    "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}. The
-    strokes are planned in runs on the worker threads (the canvas does not
+    The strokes are planned in runs on the worker threads (the canvas does not
     change in between), as many runs as a multiple of the workers,
     PLAN_CHUNK_SAMPLES curve samples at a time in all, which bounds the
     memory of the tests.
@@ -183,89 +228,80 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
     runs = [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
     parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[run], size, tip, draws[run],
                                              params), runs)
-    if len(parts) == 1:
-        return parts[0]
-    paths = [part["paths"] for part in parts]
-    plan = {key: np.concatenate([part[key] for part in parts]) for key in ("anchors", "colours", "anchor_colours",
-                                                                            "angles")}
-    plan["paths"] = PlannedPaths(np.concatenate([p.samples for p in paths]), np.concatenate([p.first for p in paths]),
-                                 np.concatenate([p.last for p in paths]), paths[0].per_segment)
-    return plan
+    return parts[0] if len(parts) == 1 else RoundPlan.joined(parts)
 
 
 def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
-                 tip: BrushTip, draws: np.ndarray, params: Params) -> dict:
+                 tip: BrushTip, draws: np.ndarray, params: Params) -> RoundPlan:
     """``plan_round`` of one chunk of strokes."""
     angles = orientation[anchors[:, 1], anchors[:, 0]].astype(np.float64)
-    shift, offset = colour_jitter(draws, params.perturbation, params.hue_perturbation)
+    jitter = colour_jitter(draws, params.perturbation, params.hue_perturbation)
     deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
-    colours, anchor_colours = bristle_colours(sources, anchors, angles, tip, params.bristle_alpha, deviation, shift,
-                                              offset, lightness=params.perturbation > 0)
+    colours = bristle_colours(sources, anchors, angles, tip, params.bristle_alpha, deviation, jitter.shift,
+                              jitter.offset, lightness=params.perturbation > 0)
     if params.renderer == "lines":
-        brush = anchor_colours
+        brush = colours.anchor
     else:
-        brush = np.einsum("b,nbc->nc", tip.intensity, colours) / tip.intensity.sum()
+        brush = np.einsum("b,nbc->nc", tip.intensity, colours.bristles) / tip.intensity.sum()
     paths = plan_paths(anchors, size, orientation, canvas.colour, brush, sources.reference, sources.edges, params)
-    return {"anchors": anchors, "colours": colours, "anchor_colours": anchor_colours, "paths": paths,
-            "angles": angles}
+    return RoundPlan(anchors, colours.bristles, colours.anchor, paths, angles)
 
 
-def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params) -> None:
+def lay_round(canvas: Canvas, plan: RoundPlan, size: int, tip: BrushTip, params: Params) -> None:
     """Lay a plan's strokes on ``canvas`` in order."""
-    paths = plan["paths"]
+    paths = plan.paths
     if params.renderer == "lines":
         every = max(1, int(size) // 4)
         for i in range(len(paths.first)):
-            kept = paths.samples[i, paths.first[i]:paths.last[i] + 1]
-            line = kept[np.unique(np.append(np.arange(0, len(kept), every), len(kept) - 1))]
-            solid_stroke(canvas, line, 0.5 * size, plan["anchor_colours"][i], 1.0, params.height_mode,
+            curve = paths.samples[i, paths.first[i]:paths.last[i] + 1]
+            line = curve[np.unique(np.append(np.arange(0, len(curve), every), len(curve) - 1))]
+            solid_stroke(canvas, line, 0.5 * size, plan.anchor_colours[i], 1.0, params.height_mode,
                          params.height_build)
         return
     canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
                params.height_build)
 
 
-def footprint_runs(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> List[Footprints]:
+def footprint_runs(plan: RoundPlan, size: int, tip: BrushTip, params: Params, shape: tuple) -> List[Footprints]:
     """The ``Footprints`` of consecutive runs of a plan's strokes on a canvas of ``shape`` (H, W), made on the
     worker threads."""
     return in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape))
 
 
-def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
-                      reference: np.ndarray) -> tuple:
-    """(``footprint_runs`` of a plan's N strokes, (N,) bool whether each ``improves`` the canvas ``colour``
-    (H, W, 3) by its ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
-    def made_and_judged(part: dict) -> tuple:
+def judged_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
+                      reference: np.ndarray) -> JudgedFootprints:
+    """``footprint_runs`` of a plan's N strokes and whether each ``improves`` the canvas ``colour`` (H, W, 3) by
+    its ``plan.ratios``, runs of strokes made and judged on the worker threads."""
+    def made_and_judged(part: RoundPlan) -> JudgedFootprints:
         footprints = strokes_footprints(part, size, tip, params, colour.shape[:2])
-        judged = part["ratios"] > 0                                      # 0: laid unjudged
+        judged = part.ratios > 0                                         # 0: laid unjudged
         mends = np.zeros(len(judged), bool)
         if judged.any():
-            mends[judged] = improves(colour, footprints, reference, part["ratios"][judged],
+            mends[judged] = improves(colour, footprints, reference, part.ratios[judged],
                                      None if judged.all() else judged)
-        return footprints, mends
+        return JudgedFootprints([footprints], mends)
 
     parts = in_runs(plan, size, tip, made_and_judged)
-    return [part[0] for part in parts], np.concatenate([part[1] for part in parts])
+    return JudgedFootprints([part.runs[0] for part in parts], np.concatenate([part.mends for part in parts]))
 
 
-def in_runs(plan: dict, size: int, tip: BrushTip, work) -> list:
+def in_runs(plan: RoundPlan, size: int, tip: BrushTip, work) -> list:
     """[work(plan of a run of strokes), ...] over runs of a plan's strokes of about equal track samples, in order,
     on the worker threads."""
-    runs = balanced_runs(track_costs(plan["paths"], tip, size), worker_count(), WORKER_LEAST_SAMPLES)
-    return run_all(lambda run: work(subset(plan, slice(*run))), runs)
+    runs = balanced_runs(track_costs(plan.paths, tip, size), worker_count(), WORKER_LEAST_SAMPLES)
+    return run_all(lambda run: work(plan.subset(slice(*run))), runs)
 
 
-def strokes_footprints(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
+def strokes_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
     """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together."""
-    stamps, directions, contact, relief, starts = stamp_paths(plan["paths"], plan["angles"], size, params)
+    stamps = stamp_paths(plan.paths, plan.angles, size, params)
     rows = max(1.0, tip.length)
-    return track_footprints(stamps, directions, starts, tip, plan["colours"], shape,
-                            passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
+    return track_footprints(stamps.points, stamps.directions, stamps.starts, tip, plan.colours, shape,
+                            passes=max(1.0, MIN_ROWS / rows), contact=stamps.contact, stamp_relief=stamps.relief,
                             bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
 
 
-def records(plan: dict, size: int, layer: int) -> List[Stroke]:
+def records(plan: RoundPlan, size: int, layer: int) -> List[Stroke]:
     """The ``Stroke`` records of a plan's strokes, in order."""
-    paths = plan["paths"]
-    return [Stroke(layer, (int(x), int(y)), int(size), paths.polyline(i), plan["anchor_colours"][i])
-            for i, (x, y) in enumerate(plan["anchors"].tolist())]
+    return [Stroke(layer, (int(x), int(y)), int(size), plan.paths.polyline(i), plan.anchor_colours[i])
+            for i, (x, y) in enumerate(plan.anchors.tolist())]
