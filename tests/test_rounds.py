@@ -153,11 +153,18 @@ def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch
     monkeypatch.setattr(rounds, "PLAN_CHUNK_SAMPLES", 1)
     monkeypatch.setattr(rounds, "LAY_CHUNK_SAMPLES", 200)
     monkeypatch.setattr(compositing, "SPLAT_CHUNK_PIXELS", 50)
-    chunks = []
-    split = rounds.lay_chunks
-    monkeypatch.setattr(rounds, "lay_chunks", lambda *args: chunks.append(split(*args)) or chunks[-1])
+    cuts = {}
+
+    def counted(module, name):
+        cut = getattr(module, name)
+        monkeypatch.setattr(module, name, lambda *args: cuts.setdefault(name, []).append(cut(*args)) or
+                            cuts[name][-1])
+
+    counted(rounds, "lay_chunks")
+    counted(rounds, "balanced_runs")                                     # plan_round's runs (and in_runs')
+    counted(compositing, "bounded_runs")                                 # the splat's chunks
     chunked = huang11.paint(image, params)
-    assert max(len(c) for c in chunks) > 3
+    assert all(max(len(runs) for runs in cuts[name]) > 3 for name in ("lay_chunks", "balanced_runs", "bounded_runs"))
     same_painting(whole, chunked)
 
 

@@ -110,12 +110,10 @@ BAND_SAMPLE = 8
 def row_bands(pixels: list, laid: list, shape: tuple, parts: int, least: int) -> list:
     """[(first, stop), ...] runs of whole rows of an (H, W) canvas, at most ``parts`` of them, holding about equal
     shares of the entries of pieces of a run: ``pixels`` [(E_i,) flat pixel indices, ...] and ``laid``
-    [(E_i,) bool or None (every entry), ...] the entries laid. At least ``least`` entries each; one run of
-    every row when there are fewer than 2 ``least``."""
+    [(E_i,) bool or None (every entry), ...] the entries laid, counted on every BAND_SAMPLE-th entry. At least
+    ``least`` entries each (``balanced_runs``: one run of every row when there are fewer than 2 ``least``)."""
     h, w = shape
-    total = sum(len(pixel) if selected is None else int(np.count_nonzero(selected))
-                for pixel, selected in zip(pixels, laid, strict=True))
-    if parts <= 1 or total < 2 * least:
+    if parts <= 1:
         return [(0, h)]
     rows = np.zeros(h, np.int64)
     for pixel, selected in zip(pixels, laid, strict=True):

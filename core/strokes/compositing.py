@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy import sparse
 
+from ..workers import bounded_runs
 from .brush import BrushTip
 from .folding import RowTables, run_colours, tip_grid
 
@@ -240,9 +241,10 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     spans (its splat weight); values: (K, W, 6) what a sample lays per unit
     of weight (depth, depth-weighted colour, deposit, height); track_starts
     (N + 1,) the strokes' runs of the K track samples. Each stroke sums its
-    samples on its own bounding box, a chunk of strokes at a time (one sparse
-    product per chunk, in sample order, float32); what lands off the canvas
-    is dropped.
+    samples on its own bounding box, a chunk of strokes whose boxes hold at
+    most SPLAT_CHUNK_PIXELS at a time (``bounded_runs``; one sparse product
+    per chunk, in sample order, float32); what lands off the canvas is
+    dropped.
     """
     h, w = shape
     n, n_columns = len(track_starts) - 1, x.shape[1]
@@ -265,12 +267,9 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     np.multiply(ax, ay, out=weights[..., 3])
     del ax, ay, bx, by
     values = values.reshape(-1, 6)
-    cut = np.searchsorted(np.cumsum(area), np.arange(1, int(area.sum() // SPLAT_CHUNK_PIXELS) + 1)
-                          * SPLAT_CHUNK_PIXELS)
-    bounds = np.unique(np.concatenate(([0], cut, [n])))
     inside = (x0 >= 0) & (y0 >= 0) & (x0 + box_w <= w) & (y0 + area // box_w <= h)         # (N,) box on the canvas
     pixels, sums, counts = [], [], []
-    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+    for a, b in bounded_runs(area, SPLAT_CHUNK_PIXELS):
         lo, hi = int(track_starts[a]), int(track_starts[b])
         box_start = np.zeros(b - a + 1, np.int64)
         np.cumsum(area[a:b], out=box_start[1:])

@@ -6,7 +6,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..workers import run_all, worker_count
+from ..workers import balanced_runs, bounded_runs, run_all, worker_count
 
 
 def grid_order(grids: np.ndarray) -> np.ndarray:
@@ -86,20 +86,20 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        tied pixel floor(u k) of the k tied ones in row-major order, u being
        the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
        line up on grid corners.
-    Grids are looked at in runs on the worker threads, ANCHOR_CHUNK_PIXELS
-    pixels at a time in all (each grid's choice is its own).
+    Grids are looked at in runs of about equal pixels on the worker threads
+    (each grid's choice is its own): one per worker, or as many as keep each
+    within ANCHOR_CHUNK_PIXELS / workers pixels (so the workers look at about
+    ANCHOR_CHUNK_PIXELS at a time), none of fewer than ANCHOR_LEAST_PIXELS.
     """
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
-    areas = np.cumsum((grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1]))
-    total, workers = (int(areas[-1]) if len(grids) else 0), worker_count()
-    chunk = min(max(-(-total // workers), ANCHOR_LEAST_PIXELS), max(1, ANCHOR_CHUNK_PIXELS // workers))
-    cuts = np.searchsorted(areas, np.arange(1, total // chunk + 1) * chunk)
-    bounds = np.unique(np.concatenate(([0], cuts, [len(grids)])))
-    parts = run_all(lambda run: _choose_anchors(grids[run], coverage, colour, reference, coverage_threshold,
-                                                difference_threshold, ties[run]),
-                    [slice(a, b) for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)])
-    if not parts:
+    if len(grids) == 0:
         return ChosenAnchors(np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool))
+    areas = (grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1])
+    workers = worker_count()
+    count = max(workers, len(bounded_runs(areas, max(1, ANCHOR_CHUNK_PIXELS // workers))))
+    parts = run_all(lambda run: _choose_anchors(grids[slice(*run)], coverage, colour, reference, coverage_threshold,
+                                                difference_threshold, ties[slice(*run)]),
+                    balanced_runs(areas, count, ANCHOR_LEAST_PIXELS))
     return ChosenAnchors(*(np.concatenate(arrays) for arrays in zip(*parts, strict=True)))
 
 

@@ -15,7 +15,7 @@ from typing import List, NamedTuple
 import numpy as np
 
 from ..params import Params
-from ..workers import balanced_runs, run_all, worker_count
+from ..workers import balanced_runs, bounded_runs, run_all, worker_count
 from .brush import BrushTip
 from .canvas import Canvas, pixel_rows
 from .compositing import Footprints, track_footprints
@@ -190,15 +190,7 @@ def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
     """[(first, stop), ...]: runs of consecutive strokes whose track samples times brush columns stay within
     LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
     length in px (curve samples ``sample_spacing`` apart) plus the brush's length."""
-    n = len(paths.first)
-    total = np.cumsum(track_costs(paths, tip, size))
-    bounds, first = [], 0
-    while first < n:
-        stop = int(np.searchsorted(total, (total[first - 1] if first else 0) + LAY_CHUNK_SAMPLES, side="right"))
-        stop = max(stop, first + 1)
-        bounds.append((first, stop))
-        first = stop
-    return bounds
+    return bounded_runs(track_costs(paths, tip, size), LAY_CHUNK_SAMPLES)
 
 
 def track_costs(paths: PlannedPaths, tip: BrushTip, size: int) -> np.ndarray:
@@ -212,22 +204,22 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
                tip: BrushTip, draws: np.ndarray, params: Params) -> RoundPlan:
     """The (unjudged) plan of N strokes, planned against ``canvas`` as it is now.
 
-    The strokes are planned in runs on the worker threads (the canvas does not
-    change in between), as many runs as a multiple of the workers,
-    PLAN_CHUNK_SAMPLES curve samples at a time in all, which bounds the
-    memory of the tests.
+    The strokes are planned in runs of equal length on the worker threads
+    (the canvas does not change in between): at least as many runs as keep
+    each within PLAN_CHUNK_SAMPLES / workers curve samples (so the workers
+    hold at most PLAN_CHUNK_SAMPLES at a time, which bounds the memory of
+    the tests), one per worker when every run has WORKER_LEAST_STROKES, and
+    a multiple of the workers, so every worker is busy to the last run.
     """
-    workers = worker_count()
+    workers, n = worker_count(), len(anchors)
     samples = (2 * max(0, params.max_length - 1) * samples_per_segment(size) + 1) * (len(tip) + 8)
-    step = max(1, PLAN_CHUNK_SAMPLES // (samples * workers))
-    n = len(anchors)
-    count = max(-(-n // step), min(workers, n // WORKER_LEAST_STROKES))
+    cost = np.full(n, samples, np.int64)
+    count = max(len(bounded_runs(cost, PLAN_CHUNK_SAMPLES // workers)), min(workers, n // WORKER_LEAST_STROKES))
     if count > 1:
-        count = min(n, -(-count // workers) * workers)                 # every worker busy to the last run
-    bounds = np.linspace(0, n, max(count, 1) + 1).astype(np.int64).tolist()
-    runs = [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
-    parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[run], size, tip, draws[run],
-                                             params), runs)
+        count = min(n, -(-count // workers) * workers)
+    runs = balanced_runs(cost, count, 0)
+    parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[slice(*run)], size, tip,
+                                             draws[slice(*run)], params), runs)
     return parts[0] if len(parts) == 1 else RoundPlan.joined(parts)
 
 
