@@ -33,6 +33,20 @@ def worker_count() -> int:
     return max(1, min(tuning.MAX_WORKERS, cores))
 
 
+def bounded_runs(cost: np.ndarray, limit: float) -> List[tuple]:
+    """[(first, stop), ...]: the N items of ``cost`` (N,) >= 0 cut, in order, into runs of consecutive items whose
+    total cost is at most ``limit``, each run as long as the limit allows (cut greedily, first to last); an item
+    costing more than ``limit`` is a run of its own. No runs for no items."""
+    total = np.cumsum(np.asarray(cost))
+    runs, first = [], 0
+    while first < len(total):
+        before = total[first - 1] if first else 0
+        stop = max(int(np.searchsorted(total, before + limit, side="right")), first + 1)
+        runs.append((first, stop))
+        first = stop
+    return runs
+
+
 def balanced_runs(cost: np.ndarray, parts: int, least: float) -> List[tuple]:
     """[(first, stop), ...]: at most ``parts`` runs of consecutive items of about equal total ``cost`` (N,) >= 0,
     each of at least ``least`` (so small work is not split); one run when the whole is below 2 ``least``."""

@@ -72,15 +72,12 @@ def bilinear_splat(x: np.ndarray, y: np.ndarray, shape: tuple) -> tuple:
 
 
 def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray, across: np.ndarray,
-                     intensity: np.ndarray, colours: np.ndarray, shape: tuple, repeat: int = 1,
+                     intensity: np.ndarray, colours: np.ndarray, shape: tuple,
                      contact: np.ndarray = None, stamp_relief: np.ndarray = None,
                      bristle_relief: np.ndarray = None, rows: float = 1.0) -> Footprints:
     """Composite a whole stroke: the Footprints of B bristles stamped at S samples on an (H, W) canvas.
 
     intensity (B,) in (0, 1]; colours (B, 3) sRGB, one per bristle, kept along the whole path.
-    repeat: each stamp stands for this many identical stamps (a number, or (S,)
-    one per stamp), so a bristle of contact I lets (1 - I)^repeat of the
-    colour below show through.
     contact: (S,) in [0, 1], each stamp's pressure (the brush lifting at the
     ends), multiplying the bristles' contact; default 1.
     stamp_relief (S,), bristle_relief (B,): factors >= 0 on the height each
@@ -121,8 +118,7 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     ends = np.append(starts[1:], len(local))
     counts = ends - starts
 
-    repeat = np.broadcast_to(np.asarray(repeat, np.float64)[..., None], (n_stamps, n_bristles)).ravel()
-    point_log_keep = repeat * np.log1p(-strength.astype(np.float64))
+    point_log_keep = np.log1p(-strength.astype(np.float64))
     log_keep = weight * point_log_keep[point]
     cumulative = np.cumsum(log_keep)
     segment_total_cum = np.repeat(cumulative[ends - 1], counts)
@@ -132,7 +128,7 @@ def stroke_footprint(samples: np.ndarray, angles: np.ndarray, along: np.ndarray,
     before_start = cumulative[starts] - log_keep[starts]
     transmittance = np.exp(cumulative[ends - 1] - before_start)
 
-    laid = (weight * (repeat[point] / float(rows))).astype(np.float32) * strength[point]
+    laid = (weight * (1.0 / float(rows))).astype(np.float32) * strength[point]
     deposit = np.add.reduceat(laid, starts)
     if stamp_relief is not None or bristle_relief is not None:
         gain = np.ones(len(point), np.float32)

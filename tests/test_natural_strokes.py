@@ -15,6 +15,7 @@ from core.methods import paint
 from core.params import Params
 from core.strokes.brush import brush_tip, load_brush
 from core.strokes.canvas import Canvas
+from core.strokes.compositing import track_footprints
 from core.strokes.path import tangent_angles
 from core.strokes.stroke import bristle_colours, colour_jitter, colour_sources, end_profile, ridge_profile
 
@@ -147,23 +148,27 @@ def test_the_perturbation_changes_lightness_far_more_than_hue(flat):
 
 
 def test_a_sub_pixel_shift_moves_the_centre_of_mass_by_that_shift(flat):
-    tip = brush_tip(flat, 8, 0.9)
-    colours = np.ones((len(tip), 3), np.float32)
+    # the engine's footprints (``track_footprints``, as a round makes them): a stroke moved by a fraction of a
+    # pixel lays the same paint moved by that fraction, and a one-bristle stroke's paint is centred on its path
     xs = np.arange(20.0, 40.0)
     base = np.stack([xs, np.full_like(xs, 20.0)], axis=1)
     angles = np.full(len(xs), 0.3)
 
-    def centre(shift):
-        fp = stroke_footprint(base + shift, angles, tip.along, tip.across, tip.intensity, colours, (48, 64),
+    def centre(tip, shift):
+        colours = np.ones((1, len(tip), 3), np.float32)
+        fp = track_footprints(base + shift, angles, np.array([0, len(base)]), tip, colours, (48, 64),
                               rows=tip.length)
         y, x = np.divmod(fp.pixel, 64)
         return np.array([np.sum(x * fp.deposit), np.sum(y * fp.deposit)]) / fp.deposit.sum(), fp.deposit.sum()
 
-    (c0, total0) = centre(np.zeros(2))
+    flat_tip, dot = brush_tip(flat, 8, 0.9), brush_tip(flat, 1, 0.9)
+    assert len(dot) == 1
+    (c0, total0) = centre(flat_tip, np.zeros(2))
     for shift in ((0.3, 0.0), (0.0, 0.45), (0.25, -0.7)):
-        c, total = centre(np.array(shift))
+        c, total = centre(flat_tip, np.array(shift))
         np.testing.assert_allclose(c - c0, shift, atol=0.01)
         assert total == pytest.approx(total0, rel=1e-4)            # the same paint, only moved
+        np.testing.assert_allclose(centre(dot, np.array(shift))[0], base.mean(axis=0) + shift, atol=0.01)
 
 
 def test_small_brushes_leave_no_pinholes(flat):

@@ -1,14 +1,18 @@
 """The round engine against its one-at-a-time reference: the same bytes for every map and every stroke.
 
-``paint(..., one_by_one=True)`` plans each stroke of a round alone against
-the canvas as the round began and lays each alone on its whole box
-(``Canvas.lay_one``); the engine plans a round's strokes together and lays
-them pass by pass (``Canvas.lay``). Random small photos, stroke sizes,
-brushes, height modes, layouts, path rules and seeds must give identical
-colour, height, opacity and coverage maps and identical stroke records.
+The reference (``tests/one_by_one.py``) plans each stroke of a round alone
+against the canvas as the round began and lays each alone on its whole box;
+the engine plans a round's strokes together and lays them pass by pass
+(``Canvas.lay``). Random small photos, stroke sizes, brushes, height modes,
+layouts, path rules and seeds must give identical colour, height, opacity
+and coverage maps and identical stroke records. The reference is built of
+the engine's own pieces, so this proves that planning together, runs,
+chunks and passes change no byte, not that the bytes are right (the
+stamp-by-stamp oracle and the by-hand tests hold the pieces to that).
 """
 
 import numpy as np
+import one_by_one
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -60,7 +64,7 @@ def test_the_engine_paints_the_bytes_of_one_stroke_at_a_time(seed, h, w, kind, s
     params = Params(seed=seed, stroke_sizes=sizes, brush=brush, height_mode=height_mode, layout=layout,
                     path_rule=path_rule, detail_pass=detail_pass, layers=layers, size_reference_megapixels=0.003)
     engine = huang11.paint(image, params)
-    reference = huang11.paint(image, params, one_by_one=True)
+    reference = one_by_one.paint(image, params)
     same_painting(engine, reference)
 
 
@@ -70,7 +74,7 @@ def test_a_round_lays_overlapping_strokes_in_order():
     params = Params(seed=2, stroke_sizes=(12,), layers=2, max_length=16, min_length=5,
                     size_reference_megapixels=0.0016)
     engine = huang11.paint(image, params)
-    reference = huang11.paint(image, params, one_by_one=True)
+    reference = one_by_one.paint(image, params)
     same_painting(engine, reference)
     assert len(engine.strokes) >= 8
 
@@ -94,8 +98,8 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
     for first, second in ((red, blue), (blue, red)):
         together, apart = Canvas.blank((6, 6), (0.9, 0.9, 0.9)), Canvas.blank((6, 6), (0.9, 0.9, 0.9))
         together.lay(both(first, second), "accumulate", 0.5)
-        apart.lay_one(first, 0, "accumulate", 0.5)
-        apart.lay_one(second, 0, "accumulate", 0.5)
+        one_by_one.lay_one(apart, first, 0, "accumulate", 0.5)
+        one_by_one.lay_one(apart, second, 0, "accumulate", 0.5)
         for name in ("colour", "height", "opacity", "coverage"):
             assert getattr(together, name).tobytes() == getattr(apart, name).tobytes()
     # the shared pixel (3, 3) shows the later stroke on top
@@ -109,7 +113,7 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
         kept.lay(both(red, blue), "accumulate", 0.5, np.array(keep))
         for footprint, laid in zip((red, blue), keep, strict=True):
             if laid:
-                alone.lay_one(footprint, 0, "accumulate", 0.5)
+                one_by_one.lay_one(alone, footprint, 0, "accumulate", 0.5)
         for name in ("colour", "height", "opacity", "coverage"):
             assert getattr(kept, name).tobytes() == getattr(alone, name).tobytes()
 
@@ -167,16 +171,23 @@ def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch
     monkeypatch.setattr(rounds, "PLAN_CHUNK_SAMPLES", 1)
     monkeypatch.setattr(rounds, "LAY_CHUNK_SAMPLES", 200)
     monkeypatch.setattr(compositing, "SPLAT_CHUNK_PIXELS", 50)
-    chunks = []
-    split = rounds.lay_chunks
-    monkeypatch.setattr(rounds, "lay_chunks", lambda *args: chunks.append(split(*args)) or chunks[-1])
+    cuts = {}
+
+    def counted(module, name):
+        cut = getattr(module, name)
+        monkeypatch.setattr(module, name, lambda *args: cuts.setdefault(name, []).append(cut(*args)) or
+                            cuts[name][-1])
+
+    counted(rounds, "lay_chunks")
+    counted(rounds, "balanced_runs")                                     # plan_round's runs (and in_runs')
+    counted(compositing, "bounded_runs")                                 # the splat's chunks
     chunked = huang11.paint(image, params)
-    assert max(len(c) for c in chunks) > 3
+    assert all(max(len(runs) for runs in cuts[name]) > 3 for name in ("lay_chunks", "balanced_runs", "bounded_runs"))
     same_painting(whole, chunked)
 
 
-def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, params: Params) -> dict:
-    """The plan of one stroke of ``size`` px anchored at (x, y), colours taken from ``reference``."""
+def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, params: Params) -> tuple:
+    """(The plan of one stroke of ``size`` px anchored at (x, y), colours taken from ``reference``; its tip)."""
     from core.strokes.brush import brush_tip, load_brush
     from core.strokes.rounds import plan_round
     from core.strokes.stroke import colour_sources
@@ -187,10 +198,10 @@ def one_stroke_plan(reference: np.ndarray, canvas: Canvas, anchor, size: int, pa
     return plan, tip
 
 
-def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: Params, reference: np.ndarray):
+def mend_and_spoil_by_hand(canvas: Canvas, plan, size: int, tip, params: Params, reference: np.ndarray):
     """Squared error mended and spoiled by one stroke, pixel by pixel in a Python loop."""
-    from core.strokes.rounds import footprints_of
-    fp = footprints_of(plan, size, tip, params, canvas.height.shape)
+    from core.strokes.rounds import strokes_footprints
+    fp = strokes_footprints(plan, size, tip, params, canvas.height.shape)
     mended = spoiled = 0.0
     for k in range(fp.starts[0], fp.starts[1]):
         y, x = divmod(int(fp.pixel[k]), canvas.colour.shape[1])
@@ -204,7 +215,7 @@ def mend_and_spoil_by_hand(canvas: Canvas, plan: dict, size: int, tip, params: P
 
 
 def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
-    from core.strokes.rounds import footprints_of, improves
+    from core.strokes.rounds import improves, strokes_footprints
     params = Params(seed=1)
     h, w, size = 40, 60, 8
     light = np.full((h, w, 3), 0.8, np.float32)
@@ -213,7 +224,8 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 20), size, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, size, tip, params, light)
     assert mended > 0 and spoiled == 0
-    assert improves(canvas.colour, footprints_of(plan, size, tip, params, (h, w)), light, 2.0).tolist() == [True]
+    assert improves(canvas.colour, strokes_footprints(plan, size, tip, params, (h, w)), light,
+                    2.0).tolist() == [True]
     # the same stroke over a canvas that already matches a dark line beside it: a light stroke anchored
     # one row off a two-pixel dark line mends its own row and spoils the line
     line = light.copy()
@@ -224,7 +236,7 @@ def test_a_stroke_is_laid_when_it_mends_more_than_twice_what_it_spoils():
     plan, tip = one_stroke_plan(light, canvas, (30, 19), 2, params)
     mended, spoiled = mend_and_spoil_by_hand(canvas, plan, 2, tip, params, line)
     assert 0 < mended <= 2.0 * spoiled, (mended, spoiled)
-    footprints = footprints_of(plan, 2, tip, params, (h, w))
+    footprints = strokes_footprints(plan, 2, tip, params, (h, w))
     assert improves(canvas.colour, footprints, line, 2.0).tolist() == [False]
     assert improves(canvas.colour, footprints, line, 0.5 * mended / spoiled).tolist() == [True]
 
@@ -270,7 +282,7 @@ def test_a_later_stroke_over_a_bare_spot_is_refused_when_it_spoils_twice_what_it
     for ratio, laid in ((0.0, 1), (0.5, 0)):
         painted = Canvas(canvas.colour.copy(), canvas.coverage.copy(), canvas.height.copy(), canvas.opacity.copy())
         strokes = paint_round(painted, sources, orientation, np.array([(30, 20)]), size, 1, tip, np.full((1, 4), 0.5),
-                              params, judged=np.array([ratio]))
+                              params, ratios=np.array([ratio]))
         assert len(strokes) == laid
         assert (painted.colour[20, 40] == sky[20, 40]).all() == (laid == 0)
 

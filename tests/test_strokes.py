@@ -22,6 +22,7 @@ from core.methods import paint
 from core.params import CANVAS_COLOUR, Params
 from core.strokes.brush import BrushTip, brush_tip, load_brush
 from core.strokes.canvas import Canvas
+from core.strokes.compositing import track_footprints
 from core.strokes.layout import choose_anchors
 from core.strokes.smoothing import smooth
 from core.strokes.stroke import ColourSources, colour_sources
@@ -597,17 +598,22 @@ def test_grids_are_visited_largest_first_one_run_per_size():
 
 
 def test_a_repeated_stamp_folds_like_that_many_identical_stamps():
-    sample = np.array([[5.0, 5.0]])
-    angle = np.array([0.0])
-    along, across = np.array([0.0], np.float32), np.array([0.0], np.float32)
-    intensity = np.array([0.6], np.float32)
-    colour = np.array([[0.2, 0.4, 0.8]], np.float32)
-    once = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10))
-    thrice = stroke_footprint(sample, angle, along, across, intensity, colour, (10, 10), repeat=3)
-    assert np.array_equal(once.pixel, thrice.pixel) and len(once.pixel) == 1
-    np.testing.assert_allclose(thrice.transmittance, 0.4 ** 3, rtol=1e-6)
-    np.testing.assert_allclose(thrice.paint, colour * (1 - 0.4 ** 3), rtol=1e-5)
-    np.testing.assert_allclose(thrice.deposit, 3 * once.deposit)  # three coats of paint
+    # the engine's footprints (``track_footprints``): a stamp of one bristle of contact 0.6 standing for three
+    # passes (as a round counts a short brush's rows) lays what three such stamps fold to by Eq. 4
+    tip = BrushTip(np.zeros(1, np.float32), np.zeros(1, np.float32), np.array([0.6], np.float32), 1.0, 1.0)
+    colour = np.array([0.2, 0.4, 0.8], np.float32)
+    once, thrice = (track_footprints(np.array([[5.0, 5.0]]), np.zeros(1), np.array([0, 1]), tip,
+                                     colour[None, None], (10, 10), passes=passes) for passes in (1, 3))
+    assert once.pixel.tolist() == thrice.pixel.tolist() == [5 * 10 + 5]
+    np.testing.assert_allclose(once.transmittance, 0.4, rtol=1e-5)
+    np.testing.assert_allclose(thrice.transmittance, 0.4 ** 3, rtol=1e-5)
+    np.testing.assert_allclose(thrice.paint, colour[None] * (1 - 0.4 ** 3), rtol=1e-5)
+    np.testing.assert_allclose(thrice.deposit, once.deposit)      # the passes fold the colour, not the paint's depth
+    canvas, by_hand = Canvas.blank((10, 10), (0.9, 0.5, 0.1)), np.array([0.9, 0.5, 0.1])
+    canvas.lay(thrice, "over", 0.5)
+    for _ in range(3):
+        by_hand = 0.6 * colour + 0.4 * by_hand                    # C <- a C_b + (1 - a) C
+    np.testing.assert_allclose(canvas.colour[5, 5], by_hand, rtol=1e-5)
 
 
 @pytest.mark.parametrize("mode", ["over", "accumulate"])

@@ -30,6 +30,25 @@ def test_balanced_runs_leave_small_work_whole():
     assert workers.balanced_runs(np.zeros(0), 4, least=1) == [(0, 0)]
 
 
+def test_bounded_runs_cut_the_items_in_order_into_the_longest_runs_within_the_limit():
+    # worked out by hand: a run takes items while its total stays within the limit; an item over it stands alone
+    assert workers.bounded_runs(np.array([3, 1, 2, 5, 1, 1, 9, 1]), 5) == [(0, 2), (2, 3), (3, 4), (4, 6), (6, 7),
+                                                                          (7, 8)]
+    assert workers.bounded_runs(np.array([2, 3, 5, 5]), 5) == [(0, 2), (2, 3), (3, 4)]          # totals of exactly 5
+    assert workers.bounded_runs(np.array([7, 8]), 5) == [(0, 1), (1, 2)]
+    assert workers.bounded_runs(np.array([0, 0, 4, 0, 0]), 4) == [(0, 5)]
+    assert workers.bounded_runs(np.array([0.5, 0.25, 0.5]), 0.75) == [(0, 2), (2, 3)]
+    assert workers.bounded_runs(np.zeros(0), 5) == []
+    rng = np.random.default_rng(3)
+    for limit in (1, 10, 50, 1000):
+        cost = rng.integers(0, 40, 300)
+        runs = workers.bounded_runs(cost, limit)
+        assert [i for first, stop in runs for i in range(first, stop)] == list(range(300))      # each once, in order
+        for first, stop in runs:
+            assert cost[first:stop].sum() <= limit or stop - first == 1
+            assert stop == 300 or cost[first:stop + 1].sum() > limit                          # no longer run fits
+
+
 def test_run_all_keeps_the_order_of_its_items_and_uses_threads():
     seen = set()
 

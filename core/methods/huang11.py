@@ -24,13 +24,11 @@ from .styles import get_style
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-          mask: Optional[np.ndarray] = None, one_by_one: bool = False) -> Painting:
+          mask: Optional[np.ndarray] = None) -> Painting:
     """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke.
 
     progress(fraction, message) is called now and then; cancel() is polled
-    between rounds and raises Cancelled when it returns True. ``one_by_one``
-    plans and lays each stroke alone (``core.strokes.rounds``' reference,
-    the same bytes, slower).
+    between rounds and raises Cancelled when it returns True.
     """
     params.validate()
     image = check_image(image)
@@ -45,13 +43,12 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     sources = colour_sources(analysis.reference, analysis.sizes, params)
     layers_stage = stage.sub(0.15, 0.95 if params.detail_pass else 1.0)
     if params.layout == "hertzmann98":
-        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage,
-                                                     one_by_one)
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage)
     else:
-        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage, one_by_one)
+        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage)
     if params.detail_pass:
         details = paint_details(canvas, image, analysis, sources, params, len(per_layer),
-                                stage.sub(0.95, 1.0), one_by_one)
+                                stage.sub(0.95, 1.0))
         strokes += details
         per_layer.append(len(details))
     seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
@@ -65,8 +62,7 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
 
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
-                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage,
-                  one_by_one: bool = False) -> List[Stroke]:
+                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
     """The detail pass: one dab of the smallest brush on each point highlight the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
@@ -86,13 +82,13 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
     tip = brush_tip(load_brush("round"), smallest, params.transparency)
     draws = visit_uniforms(params.seed, layer, np.arange(len(anchors)), 5)[:, 1:]
     strokes = paint_round(canvas, detail_sources(image), analysis.orientation, anchors, smallest, layer, tip, draws,
-                          dab, one_by_one)
+                          dab)
     stage.check()
     return strokes
 
 
 def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                 params: Params, stage: Stage, one_by_one: bool = False) -> tuple:
+                 params: Params, stage: Stage) -> tuple:
     """Run every layer over every grid, largest first, one round per stroke size (ALGORITHM §5, "Speed").
 
     Returns (strokes, strokes per layer); see ``paint_layer``.
@@ -104,7 +100,7 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
     per_layer: List[int] = []
     for layer in range(params.layers):
         laid = paint_layer(canvas, layer, grids, runs, analysis.orientation, tips, sources, params,
-                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)), one_by_one)
+                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)))
         strokes += laid
         per_layer.append(len(laid))
     return strokes, per_layer
@@ -120,7 +116,7 @@ def layer_progress(stage: Stage, layer: int, layers: int, runs: int, before: int
 
 
 def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orientation: np.ndarray, tips: dict,
-                sources: Dict[int, ColourSources], params: Params, report, one_by_one: bool = False) -> List[Stroke]:
+                sources: Dict[int, ColourSources], params: Params, report) -> List[Stroke]:
     """One layer over (N, 4) ``grids`` in painting order, one round per run (size, first, stop) of ``runs``.
 
     The grids of one size are a run (``painting_order``): their anchors are
@@ -145,7 +141,7 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
         spots = np.concatenate([np.ones(int(bare.sum()), bool), ~by_difference[chosen]])
         ratios = mend_ratios(~spots, layer, params.mend_ratio)
         laid = paint_round(canvas, sources[size], orientation, anchors, size, layer, tips[size], run_draws, params,
-                           one_by_one, judged=ratios)
+                           ratios)
         left = spots & refused(anchors, laid) if ratios is not None else np.zeros(len(anchors), bool)
         waiting = anchors[left], run_draws[left]
         strokes += laid
@@ -181,7 +177,7 @@ def refused(anchors: np.ndarray, laid: List[Stroke]) -> np.ndarray:
 
 
 def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                             params: Params, stage: Stage, one_by_one: bool = False) -> tuple:
+                             params: Params, stage: Stage) -> tuple:
     """The Fig. 8b ablation: the paper's strokes on Hertzmann 1998's layered layout.
 
     One layer per standard stroke size (largest first; params.layers is not
@@ -205,7 +201,7 @@ def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sou
         order = np.random.default_rng([params.seed, layer]).permutation(len(anchors))
         draws = visit_uniforms(params.seed, layer, order, 5)[:, 1:]
         strokes += paint_round(canvas, sources[size], analysis.orientation, anchors[order], size, layer, tips[size],
-                               draws, params, one_by_one)
+                               draws, params)
         stage.check()
         stage.report((layer + 1) / len(sizes), f"Layer {layer + 1}/{len(sizes)}: {len(strokes)} strokes")
         per_layer.append(len(order))

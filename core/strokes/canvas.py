@@ -37,17 +37,17 @@ class Canvas:
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
         return cls(colour, zeros(), zeros(), zeros())
 
-    def lay(self, footprints: Footprints | list, height_mode: str, build: float, keep: np.ndarray = None) -> None:
+    def lay(self, footprints: Footprints | list, height_mode: str, build: float, kept: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
         footprints: the run's Footprints, or a list of the Footprints of its
         consecutive pieces (laid as one run, without joining them first).
-        keep: optional (N,) bool over the run's N strokes, lay only those
+        kept: optional (N,) bool over the run's N strokes, lay only those
         where it is True (as if the others were not in the run).
         The k-th stroke to touch a pixel in the run is laid on it in the k-th
         pass, every pixel of a pass at once: each pixel sees its strokes in
         the run's order, so the canvas is exactly what laying the strokes one
-        by one gives (``lay_one``). The arithmetic is ``composite``'s. Bands of
+        by one gives. The arithmetic is ``composite``'s. Bands of
         rows holding about equal shares of the entries are laid side by side
         on the worker threads (a pixel's strokes all lie in its band), each
         band picking its own entries out of the pieces.
@@ -55,11 +55,11 @@ class Canvas:
         pieces, first = [], 0
         for part in [footprints] if isinstance(footprints, Footprints) else footprints:
             counts = np.diff(part.starts)
-            kept = None if keep is None else np.asarray(keep[first:first + len(counts)], bool)
+            part_kept = None if kept is None else np.asarray(kept[first:first + len(counts)], bool)
             first += len(counts)
-            if part.pixel.size == 0 or (kept is not None and not kept.any()):
+            if part.pixel.size == 0 or (part_kept is not None and not part_kept.any()):
                 continue
-            laid = None if kept is None or kept.all() else np.repeat(kept, counts)
+            laid = None if part_kept is None or part_kept.all() else np.repeat(part_kept, counts)
             pieces.append(((part.pixel, part.transmittance, part.paint, part.deposit, part.height,
                             np.repeat(inverse_full(part.full), counts)), laid))
         if not pieces:
@@ -83,7 +83,7 @@ class Canvas:
         order = by_pixel[np.argsort(rank, kind="stable")]      # pass after pass, each in the run's order
         passes = np.bincount(rank)
         at_all = np.take(pixel, order)
-        keep, deposit = np.take(transmittance, order), np.take(deposit, order)
+        transmittance, deposit = np.take(transmittance, order), np.take(deposit, order)
         raised = np.take(raised, order)
         paint = np.take(paint, order, axis=0)
         inverse = np.take(inverse, order)
@@ -95,7 +95,7 @@ class Canvas:
             at = at_all[part]
             colour[at], coverage[at], height[at], opacity[at] = composite(
                 np.take(colour, at, axis=0), np.take(coverage, at), np.take(height, at), np.take(opacity, at),
-                keep[part], paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
+                transmittance[part], paint[part], deposit[part], raised[part], inverse[part], height_mode, build)
 
     def flat(self) -> tuple:
         """Views of the canvas over its H W pixels: colour (H W, 3), coverage, height, opacity (H W,); what is
@@ -107,34 +107,6 @@ class Canvas:
                              "(laying writes through flat views of them)")
         return self.colour.reshape(-1, 3), self.coverage.reshape(-1), self.height.reshape(-1), self.opacity.reshape(-1)
 
-    def lay_one(self, footprints: Footprints, stroke: int, height_mode: str, build: float) -> None:
-        """Lay stroke ``stroke`` of ``footprints`` alone, on the whole box around the pixels it touches.
-
-        The one-at-a-time reference of ``lay``: the same ``composite`` over
-        the box, where the pixels the stroke does not touch take
-        transmittance 1 and no paint, deposit or height (which leaves them as
-        they are).
-        """
-        entries = slice(int(footprints.starts[stroke]), int(footprints.starts[stroke + 1]))
-        pixel = footprints.pixel[entries]
-        if pixel.size == 0:
-            return
-        rows, columns = np.divmod(pixel, self.height.shape[1])
-        top, left = int(rows.min()), int(columns.min())
-        shape = (int(rows.max()) - top + 1, int(columns.max()) - left + 1)
-        local = (rows - top, columns - left)
-        keep, paint = np.ones(shape, np.float32), np.zeros(shape + (3,), np.float32)
-        deposit, stroke_height = np.zeros(shape, np.float32), np.zeros(shape, np.float32)
-        keep[local] = footprints.transmittance[entries]
-        paint[local] = footprints.paint[entries]
-        deposit[local] = footprints.deposit[entries]
-        stroke_height[local] = footprints.height[entries]
-        box = (slice(top, top + shape[0]), slice(left, left + shape[1]))
-        inverse = np.full(shape, inverse_full(footprints.full[stroke:stroke + 1])[0], np.float32)
-        (self.colour[box], self.coverage[box], self.height[box], self.opacity[box]) = composite(
-            self.colour[box], self.coverage[box], self.height[box], self.opacity[box], keep, paint, deposit,
-            stroke_height, inverse, height_mode, build)
-
 
 BAND_SAMPLE = 8
 """Bands are balanced on the rows of every BAND_SAMPLE-th entry (where the cuts fall changes no byte)."""
@@ -143,12 +115,10 @@ BAND_SAMPLE = 8
 def row_bands(pixels: list, laid: list, shape: tuple, parts: int, least: int) -> list:
     """[(first, stop), ...] runs of whole rows of an (H, W) canvas, at most ``parts`` of them, holding about equal
     shares of the entries of pieces of a run: ``pixels`` [(E_i,) flat pixel indices, ...] and ``laid``
-    [(E_i,) bool or None (every entry), ...] the entries laid. At least ``least`` entries each; one run of
-    every row when there are fewer than 2 ``least``."""
+    [(E_i,) bool or None (every entry), ...] the entries laid, counted on every BAND_SAMPLE-th entry. At least
+    ``least`` entries each (``balanced_runs``: one run of every row when there are fewer than 2 ``least``)."""
     h, w = shape
-    total = sum(len(pixel) if selected is None else int(np.count_nonzero(selected))
-                for pixel, selected in zip(pixels, laid, strict=True))
-    if parts <= 1 or total < 2 * least:
+    if parts <= 1:
         return [(0, h)]
     rows = np.zeros(h, np.int64)
     for pixel, selected in zip(pixels, laid, strict=True):
@@ -185,16 +155,17 @@ def inverse_full(full: np.ndarray) -> np.ndarray:
 
 
 def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opacity: np.ndarray,
-              keep: np.ndarray, paint: np.ndarray, deposit: np.ndarray, stroke_height: np.ndarray,
+              transmittance: np.ndarray, paint: np.ndarray, deposit: np.ndarray, stroke_height: np.ndarray,
               inverse: np.ndarray, height_mode: str, build: float) -> tuple:
     """One stroke laid on canvas values (ALGORITHM §6): new (colour, coverage, height, opacity), all float32.
 
     Every argument is an array over the same pixels (colour and paint with
-    a last axis of 3): keep the stroke's transmittance, paint what it lays
-    on top, deposit and stroke_height its contact and height there, inverse
-    1 / its full deposit (its 90th-percentile deposit; 0 if it has none).
-    Colour by Eq. 4 (folded): C keep + paint; coverage as the same stroke
-    painted in white. The stroke's opacity o = a f, with a = 1 - keep its
+    a last axis of 3): transmittance T the share of the old colour the
+    stroke lets show through, paint what it lays on top, deposit and
+    stroke_height its contact and height there, inverse 1 / its full
+    deposit (its 90th-percentile deposit; 0 if it has none).
+    Colour by Eq. 4 (folded): C T + paint; coverage as the same stroke
+    painted in white. The stroke's opacity o = a f, with a = 1 - T its
     colour alpha and f = min(1, deposit / full) how fully its paint covers,
     so the opacity follows the bristles' real footprint and fades with them
     at the edges and ends. Height, with h the stroke's height:
@@ -211,8 +182,8 @@ def composite(colour: np.ndarray, coverage: np.ndarray, height: np.ndarray, opac
     stroke's body, so crowded small strokes leave no groove between them.
     Opacity A = o + (1 - o) A.
     """
-    colour = colour * keep[..., None] + paint
-    alpha = np.float32(1.0) - keep
+    colour = colour * transmittance[..., None] + paint
+    alpha = np.float32(1.0) - transmittance
     coverage = coverage + (np.float32(1.0) - coverage) * alpha
     fullness = np.minimum(deposit * inverse, np.float32(1.0))
     o = alpha * fullness

@@ -22,10 +22,12 @@ per-stroke box of untouched pixels is ever filled.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from scipy import sparse
 
+from ..workers import bounded_runs
 from .brush import BrushTip
 from .folding import RowTables, run_colours, tip_grid
 
@@ -55,17 +57,6 @@ class Footprints:
     deposit: np.ndarray
     height: np.ndarray
     full: np.ndarray
-
-    @staticmethod
-    def joined(parts: list) -> "Footprints":
-        """The footprints of several runs of strokes, one run after another."""
-        if len(parts) == 1:
-            return parts[0]
-        offsets = np.cumsum([0] + [p.starts[-1] for p in parts[:-1]])
-        starts = np.concatenate([[0]] + [p.starts[1:] + offset for p, offset in zip(parts, offsets, strict=True)])
-        join = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
-        return Footprints(starts.astype(np.int64), join("pixel"), join("transmittance"), join("paint"),
-                          join("deposit"), join("height"), join("full"))
 
 
 def full_deposits(deposit: np.ndarray, starts: np.ndarray) -> np.ndarray:
@@ -230,24 +221,31 @@ def track_footprints(stamps: np.ndarray, angles: np.ndarray, starts: np.ndarray,
         np.multiply(values[..., 0], colour[..., channel], out=values[..., 1 + channel])
     np.multiply(values[..., 4], (build[:, None] * ridge[None, :]).astype(np.float32), out=values[..., 5])
     del colour
-    starts, pixel, sums = _splat(x, y, span, values, track_starts, (h, w))
+    sums = _splat(x, y, span, values, track_starts, (h, w))
     del x, y, span, values
-    return _footprints_of_sums(starts, pixel, sums)
+    return _footprints_of_sums(sums)
+
+
+class Splat(NamedTuple):
+    """What N strokes' track samples sum to on the E (stroke, pixel) entries they touch, strokes in order."""
+
+    starts: np.ndarray          # int64 (N + 1,): stroke i's entries are [starts[i], starts[i + 1])
+    pixel: np.ndarray           # int64 (E,) flat pixel index, ascending within a stroke
+    sums: np.ndarray            # float32 (E, 6) depth, depth-weighted colour (3), deposit, height
 
 
 def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, track_starts: np.ndarray,
-           shape: tuple) -> tuple:
+           shape: tuple) -> Splat:
     """Splat (K, W) track samples of N strokes bilinearly and sum them per (stroke, pixel).
 
     x, y: (K, W) float32 positions (px); span: (K, W) the arc each sample
     spans (its splat weight); values: (K, W, 6) what a sample lays per unit
     of weight (depth, depth-weighted colour, deposit, height); track_starts
     (N + 1,) the strokes' runs of the K track samples. Each stroke sums its
-    samples on its own bounding box, a chunk of strokes at a time (``box_sums``
-    per chunk, in sample order, float32); what lands off the canvas
-    is dropped. Returns (starts (N + 1,), pixel (E,), sums (E, 6) float32):
-    stroke i's pixels and the sums of the values there are entries
-    [starts[i], starts[i + 1]).
+    samples on its own bounding box, a chunk of strokes whose boxes hold at
+    most ``tuning.SPLAT_CHUNK_PIXELS`` at a time (``bounded_runs``; ``box_sums``
+    per chunk, in sample order, float32); what lands off the canvas is
+    dropped.
     """
     h, w = shape
     n, n_columns = len(track_starts) - 1, x.shape[1]
@@ -270,12 +268,9 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     np.multiply(ax, ay, out=weights[..., 3])
     del ax, ay, bx, by
     values = values.reshape(-1, 6)
-    cut = np.searchsorted(np.cumsum(area), np.arange(1, int(area.sum() // SPLAT_CHUNK_PIXELS) + 1)
-                          * SPLAT_CHUNK_PIXELS)
-    bounds = np.unique(np.concatenate(([0], cut, [n])))
     inside = (x0 >= 0) & (y0 >= 0) & (x0 + box_w <= w) & (y0 + area // box_w <= h)         # (N,) box on the canvas
     pixels, sums, counts = [], [], []
-    for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+    for a, b in bounded_runs(area, SPLAT_CHUNK_PIXELS):
         lo, hi = int(track_starts[a]), int(track_starts[b])
         box_start = np.zeros(b - a + 1, np.int64)
         np.cumsum(area[a:b], out=box_start[1:])
@@ -305,10 +300,10 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
         if on is not None and not on.all():
             offsets = np.zeros(b - a + 1, np.int64)
             np.cumsum(per_stroke, out=offsets[1:])
-            kept = np.zeros(b - a, np.int64)
+            on_canvas = np.zeros(b - a, np.int64)
             has = per_stroke > 0
-            kept[has] = np.add.reduceat(on, offsets[:-1][has])
-            touched, row, per_stroke = touched[on], row[on], kept
+            on_canvas[has] = np.add.reduceat(on, offsets[:-1][has])
+            touched, row, per_stroke = touched[on], row[on], on_canvas
         pixels.append(row)
         sums.append(np.take(laid, touched, axis=0))
         counts.append(per_stroke)
@@ -317,7 +312,7 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     join = (lambda parts: parts[0]) if len(pixels) == 1 else np.concatenate
     starts = np.zeros(n + 1, np.int64)
     np.cumsum(join(counts), out=starts[1:])
-    return starts, join(pixels), join(sums)
+    return Splat(starts, join(pixels), join(sums))
 
 
 def box_sums(weights: np.ndarray, corners: np.ndarray, values: np.ndarray, pixels: int) -> np.ndarray:
@@ -330,8 +325,9 @@ def box_sums(weights: np.ndarray, corners: np.ndarray, values: np.ndarray, pixel
     return splat @ values
 
 
-def _footprints_of_sums(starts: np.ndarray, pixel: np.ndarray, laid: np.ndarray) -> Footprints:
-    """The Footprints of ``_splat``'s sums: laid (E, 6) depth, depth-weighted colour, deposit and height."""
+def _footprints_of_sums(splat: Splat) -> Footprints:
+    """The Footprints of ``_splat``'s sums."""
+    starts, laid = splat.starts, splat.sums
     depth = np.ascontiguousarray(laid[:, 0])
     transmittance = np.exp(-depth)
     share = np.divide(1.0 - transmittance, depth, out=np.zeros_like(depth), where=depth > 0)
@@ -339,5 +335,5 @@ def _footprints_of_sums(starts: np.ndarray, pixel: np.ndarray, laid: np.ndarray)
     for channel in range(3):                                     # strided columns, no broadcast
         np.multiply(laid[:, 1 + channel], share, out=paint[:, channel])
     deposit = np.ascontiguousarray(laid[:, 4])
-    return Footprints(starts, pixel, transmittance, paint, deposit, np.ascontiguousarray(laid[:, 5]),
+    return Footprints(starts, splat.pixel, transmittance, paint, deposit, np.ascontiguousarray(laid[:, 5]),
                       full_deposits(deposit, starts))

@@ -21,6 +21,7 @@ two prefix sums, and a contact between two levels is interpolated linearly.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,8 +32,17 @@ MAX_INTENSITY = 1.0 - 1e-6  # keeps log(1 - I) finite for full-contact bristles
 LEVELS_PER_CONTACT = 24
 
 
-def tip_grid(along: np.ndarray, across: np.ndarray) -> tuple:
-    """Row and column of each of B bristles in their tip's grid: (rows (B,) int, columns (B,) int, R, W).
+class TipGrid(NamedTuple):
+    """Where B bristles sit on their tip's lattice of R rows and W columns."""
+
+    rows: np.ndarray            # int64 (B,) in [0, R)
+    columns: np.ndarray         # int64 (B,) in [0, W)
+    n_rows: int                 # R
+    n_columns: int              # W
+
+
+def tip_grid(along: np.ndarray, across: np.ndarray) -> TipGrid:
+    """Row and column of each of B bristles in their tip's grid, and the grid's rows R and columns W.
 
     Bristles sit on a whole-pixel lattice (see core.brush): row r lies r px
     behind the front (largest ``along``), column c is c px right of the
@@ -42,7 +52,7 @@ def tip_grid(along: np.ndarray, across: np.ndarray) -> tuple:
     across = np.asarray(across, np.float64)
     rows = np.rint(along.max() - along).astype(np.int64)
     columns = np.rint(across - across.min()).astype(np.int64)
-    return rows, columns, int(rows.max()) + 1, int(columns.max()) + 1
+    return TipGrid(rows, columns, int(rows.max()) + 1, int(columns.max()) + 1)
 
 
 def run_colours(grid: np.ndarray, grid_colours: np.ndarray, passes: float, stroke: np.ndarray,
@@ -73,6 +83,13 @@ def run_colours(grid: np.ndarray, grid_colours: np.ndarray, passes: float, strok
     return ((sums[stroke, last_row + 1] - sums[stroke, first_row]) * scale[..., None]).astype(np.float32)
 
 
+class RowRuns(NamedTuple):
+    """What K track samples of a brush W columns wide lay, each folding a run of the brush's rows."""
+
+    log_keep: np.ndarray        # float32 (K, W) <= 0, log transmittance
+    laid: np.ndarray            # float32 (K, W) >= 0, the contact laid
+
+
 @dataclass(frozen=True)
 class RowTables:
     """Prefix sums over a brush's rows at contact levels l / LEVELS_PER_CONTACT, l = 0 .. LEVELS_PER_CONTACT.
@@ -95,11 +112,10 @@ class RowTables:
         np.cumsum(strength, axis=1, out=laid[:, 1:])
         return cls(log_keep, laid)
 
-    def runs(self, first_row: np.ndarray, last_row: np.ndarray, touch: np.ndarray) -> tuple:
+    def runs(self, first_row: np.ndarray, last_row: np.ndarray, touch: np.ndarray) -> RowRuns:
         """What K track samples lay, each passed by rows first_row .. last_row at contact ``touch``.
 
         first_row, last_row: (K,) int in [0, R - 1]; touch: (K,) in [0, 1].
-        Returns (log transmittance (K, W), contact laid (K, W)) float32.
         """
         position = np.clip(np.asarray(touch, np.float64), 0.0, 1.0) * LEVELS_PER_CONTACT
         below = np.minimum(np.floor(position).astype(np.int64), LEVELS_PER_CONTACT - 1)
@@ -109,4 +125,5 @@ class RowTables:
             low = table[below, last_row + 1] - table[below, first_row]
             high = table[below + 1, last_row + 1] - table[below + 1, first_row]
             out.append((low * (1.0 - frac) + high * frac).astype(np.float32))
-        return out[0], out[1]
+        return RowRuns(*out)
+

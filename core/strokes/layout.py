@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from ..workers import run_all, worker_count
+from ..workers import balanced_runs, bounded_runs, run_all, worker_count
 from .canvas import Canvas
 
 
@@ -25,7 +27,15 @@ def painting_order(grids: np.ndarray, sizes: np.ndarray) -> np.ndarray:
     return np.lexsort((np.arange(len(grids)), -areas, -np.asarray(sizes, np.int64)))
 
 
-def grid_pixels(grids: np.ndarray) -> tuple:
+class GridPixels(NamedTuple):
+    """The P pixels of N grids, grid after grid; grid i's pixels are [starts[i], starts[i + 1])."""
+
+    x: np.ndarray               # int64 (P,) columns
+    y: np.ndarray               # int64 (P,) rows
+    starts: np.ndarray          # int64 (N + 1,)
+
+
+def grid_pixels(grids: np.ndarray) -> GridPixels:
     """The pixels of (N, 4) grids (x0, y0, x1, y1), grid after grid in row-major order:
     (x (P,), y (P,), starts (N + 1,)), grid i's pixels [starts[i], starts[i + 1])."""
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
@@ -35,7 +45,7 @@ def grid_pixels(grids: np.ndarray) -> tuple:
     np.cumsum(areas, out=starts[1:])
     owner = np.repeat(np.arange(len(grids)), areas)
     ly, lx = np.divmod(np.arange(starts[-1]) - starts[owner], widths[owner])
-    return grids[owner, 0] + lx, grids[owner, 1] + ly, starts
+    return GridPixels(grids[owner, 0] + lx, grids[owner, 1] + ly, starts)
 
 
 # Grid pixels looked at together at most when choosing anchors (bounds the memory: about 250 bytes each).
@@ -44,8 +54,16 @@ ANCHOR_CHUNK_PIXELS = 1 << 18
 ANCHOR_LEAST_PIXELS = 1 << 16
 
 
+class ChosenAnchors(NamedTuple):
+    """The anchors of N grids of one layer and stroke size."""
+
+    anchors: np.ndarray         # int64 (N, 2) (x, y) px, meaningful where ``chosen``
+    chosen: np.ndarray          # bool (N,) the grid gets a stroke
+    by_difference: np.ndarray   # bool (N,) chosen by rule 2 (the canvas differs from the reference)
+
+
 def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
-                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
+                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> ChosenAnchors:
     """This layer's anchors (x, y) in N (N, 4) grids (x0, y0, x1, y1) of one stroke size, all at once.
 
     coverage: (H, W) in [0, 1], how fully each pixel is painted (the painter
@@ -63,27 +81,25 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        tied pixel floor(u k) of the k tied ones in row-major order, u being
        the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
        line up on grid corners.
-    Returns (anchors (N, 2) int64, chosen (N,) bool: the grid gets a stroke,
-    by_difference (N,) bool: by rule 2).
-    Grids are looked at in runs on the worker threads, ANCHOR_CHUNK_PIXELS
-    pixels at a time in all (each grid's choice is its own).
+    Grids are looked at in runs of about equal pixels on the worker threads
+    (each grid's choice is its own): one per worker, or as many as keep each
+    within ANCHOR_CHUNK_PIXELS / workers pixels (so the workers look at about
+    ANCHOR_CHUNK_PIXELS at a time), none of fewer than ANCHOR_LEAST_PIXELS.
     """
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
-    areas = np.cumsum((grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1]))
-    total, workers = (int(areas[-1]) if len(grids) else 0), worker_count()
-    chunk = min(max(-(-total // workers), ANCHOR_LEAST_PIXELS), max(1, ANCHOR_CHUNK_PIXELS // workers))
-    cuts = np.searchsorted(areas, np.arange(1, total // chunk + 1) * chunk)
-    bounds = np.unique(np.concatenate(([0], cuts, [len(grids)])))
-    parts = run_all(lambda run: _choose_anchors(grids[run], coverage, colour, reference, coverage_threshold,
-                                                difference_threshold, ties[run]),
-                    [slice(a, b) for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)])
-    if not parts:
-        return np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool)
-    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
+    if len(grids) == 0:
+        return ChosenAnchors(np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool))
+    areas = (grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1])
+    workers = worker_count()
+    count = max(workers, len(bounded_runs(areas, max(1, ANCHOR_CHUNK_PIXELS // workers))))
+    parts = run_all(lambda run: _choose_anchors(grids[slice(*run)], coverage, colour, reference, coverage_threshold,
+                                                difference_threshold, ties[slice(*run)]),
+                    balanced_runs(areas, count, ANCHOR_LEAST_PIXELS))
+    return ChosenAnchors(*(np.concatenate(arrays) for arrays in zip(*parts, strict=True)))
 
 
 def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
-                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> tuple:
+                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> ChosenAnchors:
     """``choose_anchors`` of a chunk of grids."""
     n = len(grids)
     x, y, starts = grid_pixels(grids)
@@ -111,7 +127,7 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
     hit = np.flatnonzero(candidate & (rank == before[owner] + pick[owner]))
     anchors = np.zeros((n, 2), np.int64)
     anchors[owner[hit], 0], anchors[owner[hit], 1] = x[hit], y[hit]
-    return anchors, chosen, chosen & ~cover
+    return ChosenAnchors(anchors, chosen, chosen & ~cover)
 
 
 def canvas_error(canvas: Canvas, reference: np.ndarray) -> np.ndarray:

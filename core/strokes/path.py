@@ -10,6 +10,7 @@ stamps as one flat array with every stroke's run marked by ``starts``.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,8 +32,15 @@ def nearest_pixels(shape: tuple, x: np.ndarray, y: np.ndarray) -> tuple:
     return iy, ix
 
 
+class ControlPoints(NamedTuple):
+    """Control points of N strokes, K = backward + 1 + forward each, ordered backward end -> forward end."""
+
+    points: np.ndarray          # float64 (N, K, 2) (x, y) px, the anchor at index ``backward``
+    counts: np.ndarray          # int64 (N, 2) the control points traced forward and backward
+
+
 def trace_control_points(anchors: np.ndarray, orientation: np.ndarray, step: float, forward: int, backward: int,
-                         max_turn: float = MAX_TURN_PER_STEP, margin: float = 0.0) -> tuple:
+                         max_turn: float = MAX_TURN_PER_STEP, margin: float = 0.0) -> ControlPoints:
     """Control points of N strokes from their ``anchors`` following the orientation field both ways.
 
     anchors: (N, 2) int (x, y) pixels. orientation: (H, W) axial angles.
@@ -85,7 +93,7 @@ def trace_control_points(anchors: np.ndarray, orientation: np.ndarray, step: flo
             counts[:, side] += alive
             at = backward + 1 + i if sign > 0 else backward - 1 - i
             points[:, at, 0], points[:, at, 1] = x, y
-    return points, counts
+    return ControlPoints(points, counts)
 
 
 _BASIS_CACHE: dict = {}
@@ -123,7 +131,16 @@ def catmull_rom(points: np.ndarray, per_segment: int) -> np.ndarray:
     return np.concatenate((samples.reshape(n, -1, 2), points[:, -1:]), axis=1)
 
 
-def resample_by_length(samples: np.ndarray, first: np.ndarray, last: np.ndarray, spacing: float = 1.0) -> tuple:
+class Resampled(NamedTuple):
+    """M stamps along N curves; curve i's stamps are [starts[i], starts[i + 1])."""
+
+    stamps: np.ndarray          # float64 (M, 2) (x, y) px
+    arc: np.ndarray             # float64 (M,) px from the curve's start
+    starts: np.ndarray          # int64 (N + 1,)
+
+
+def resample_by_length(samples: np.ndarray, first: np.ndarray, last: np.ndarray,
+                       spacing: float = 1.0) -> Resampled:
     """Stamps every ``spacing`` px of arc length along the kept part of each of N sampled curves.
 
     samples: (N, S, 2) float64; stroke i keeps samples first[i] .. last[i]
@@ -163,7 +180,7 @@ def resample_by_length(samples: np.ndarray, first: np.ndarray, last: np.ndarray,
     frac = np.clip(np.divide(t - arc[owner, lo], length, out=np.zeros_like(t), where=length > 0), 0.0, 1.0)
     a, b = samples[owner, lo], samples[owner, nxt]
     stamps = a + frac[:, None] * (b - a)
-    return stamps, t, starts
+    return Resampled(stamps, t, starts)
 
 
 def tangent_angles(points: np.ndarray, starts: np.ndarray, fallback: np.ndarray) -> np.ndarray:

@@ -4,19 +4,18 @@ A round's strokes are planned (bristle colours, path, stopping tests)
 against the canvas as it stood when the round began, all together as
 arrays; they are then laid in the round's order, each stroke's Eq. 4
 contributions after the previous one's, so overlaps composite exactly as
-laying them one by one would. ``paint_round(..., one_by_one=True)`` is that
-one-at-a-time reference: each stroke planned alone against the same canvas,
-then laid alone on its whole box. Both give the same bytes.
+laying them one by one would.
 """
 
 from __future__ import annotations
 
-from typing import List
+from dataclasses import dataclass
+from typing import List, NamedTuple
 
 import numpy as np
 
 from ..params import Params
-from ..workers import balanced_runs, run_all, worker_count
+from ..workers import balanced_runs, bounded_runs, run_all, worker_count
 from .brush import BrushTip
 from .canvas import Canvas
 from .compositing import Footprints, track_footprints
@@ -46,58 +45,99 @@ WORKER_LEAST_SAMPLES = 1 << 15
 WORKER_LEAST_STROKES = 64
 
 
-def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> tuple:
-    """Stamps one px apart along N planned paths: (stamps (M, 2), directions (M,), contact (M,), relief (M,), starts (N + 1,))."""
-    stamps, arc, starts = resample_by_length(paths.samples, paths.first, paths.last)
-    directions = tangent_angles(stamps, starts, angles)
-    total = np.repeat(arc[starts[1:] - 1], np.diff(starts))
-    contact, relief = end_profile(arc, total, size, params.taper, params.lift_buildup)
-    return stamps, directions, contact, relief, starts
+@dataclass
+class RoundPlan:
+    """Everything N strokes of a round need to be laid, in the round's order.
+
+    anchors: int64 (N, 2) (x, y) px.
+    colours: float32 (N, B, 3) sRGB [0, 1], the colour of every bristle of the brush (Eq. 5).
+    anchor_colours: float32 (N, 3) sRGB [0, 1], each stroke's colour at its anchor (what it records).
+    paths: the strokes' kept curves.
+    angles: float64 (N,) radians, the orientation field at each anchor.
+    ratios: float64 (N,) >= 0 or None: stroke i is laid only if it mends more than ratios[i] times the error
+            it spoils (``improves``), 0 lays it unjudged; None when the round lays every stroke.
+    """
+
+    anchors: np.ndarray
+    colours: np.ndarray
+    anchor_colours: np.ndarray
+    paths: PlannedPaths
+    angles: np.ndarray
+    ratios: np.ndarray = None
+
+    def subset(self, index) -> "RoundPlan":
+        """The plan of some of the strokes, in order: ``index`` a slice or an ascending (K,) int array."""
+        paths = self.paths
+        return RoundPlan(self.anchors[index], self.colours[index], self.anchor_colours[index],
+                         PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment),
+                         self.angles[index], None if self.ratios is None else self.ratios[index])
+
+    @staticmethod
+    def joined(parts: list) -> "RoundPlan":
+        """The plan of several runs of strokes (unjudged), one run after another."""
+        join = lambda arrays: np.concatenate(list(arrays))  # noqa: E731
+        return RoundPlan(join(p.anchors for p in parts), join(p.colours for p in parts),
+                         join(p.anchor_colours for p in parts),
+                         PlannedPaths(join(p.paths.samples for p in parts), join(p.paths.first for p in parts),
+                                      join(p.paths.last for p in parts), parts[0].paths.per_segment),
+                         join(p.angles for p in parts))
+
+
+class Stamps(NamedTuple):
+    """M stamps one px apart along N strokes' paths; stroke i's stamps are [starts[i], starts[i + 1])."""
+
+    points: np.ndarray          # float64 (M, 2) (x, y) px
+    directions: np.ndarray      # float64 (M,) radians, the direction of travel
+    contact: np.ndarray         # float32 (M,) in (0, 1], the brush's pressure (``end_profile``)
+    relief: np.ndarray          # float32 (M,) >= 1, paint gathering where the brush lifts
+    starts: np.ndarray          # int64 (N + 1,)
+
+
+class JudgedFootprints(NamedTuple):
+    """What N strokes lay and whether each is laid."""
+
+    runs: List[Footprints]      # the Footprints of consecutive runs of the strokes
+    mends: np.ndarray           # (N,) bool: the stroke ``improves`` the canvas by its ratio
+
+
+def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Params) -> Stamps:
+    """Stamps one px apart along N planned paths; ``angles`` (N,) the direction a stroke of one stamp takes."""
+    resampled = resample_by_length(paths.samples, paths.first, paths.last)
+    starts = resampled.starts
+    total = np.repeat(resampled.arc[starts[1:] - 1], np.diff(starts))
+    profile = end_profile(resampled.arc, total, size, params.taper, params.lift_buildup)
+    return Stamps(resampled.stamps, tangent_angles(resampled.stamps, starts, angles), profile.contact,
+                  profile.relief, starts)
 
 
 def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
                 layer: int, tip: BrushTip, draws: np.ndarray, params: Params,
-                one_by_one: bool = False, judged: np.ndarray = None) -> List[Stroke]:
+                ratios: np.ndarray = None) -> List[Stroke]:
     """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
 
     draws: (N, 4) uniform numbers of each stroke's own stream (its colour
-    perturbation, ``colour_jitter``). judged: optional (N,) float >= 0,
-    stroke i is laid only if it mends more than judged[i] times the error
+    perturbation, ``colour_jitter``). ratios: optional (N,) float >= 0,
+    stroke i is laid only if it mends more than ratios[i] times the error
     it spoils (``improves``), judged alone on the canvas as the round found
     it; 0 lays it unjudged (all are, by the 'lines' renderer).
-    With ``one_by_one`` each stroke is planned and laid alone (the
-    reference of the same rule).
     """
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     if len(anchors) == 0:
         return []
-    if judged is not None:
-        judged = None if params.renderer == "lines" else np.asarray(judged, np.float64)
-    if one_by_one:
-        planned = [plan_round(canvas, sources, orientation, anchors[i:i + 1], size, tip, draws[i:i + 1], params)
-                   for i in range(len(anchors))]
-        if judged is not None:
-            planned = [plan for plan, ratio in zip(planned, judged.tolist(), strict=True)
-                       if not ratio or improves(canvas.colour, footprints_of(plan, size, tip, params,
-                                                                             canvas.height.shape),
-                                                sources.reference, ratio)[0]]
-        for plan in planned:
-            lay_round(canvas, plan, size, tip, params, one_by_one=True)
-        return [stroke for plan in planned for stroke in records(plan, size, layer)]
     plan = plan_round(canvas, sources, orientation, anchors, size, tip, draws, params)
-    chunks = lay_chunks(plan["paths"], tip, size)
-    if judged is not None and judged.any():
-        plan["ratios"] = judged
-        kept = judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference)
-        return records(subset(plan, kept), size, layer)
+    chunks = lay_chunks(plan.paths, tip, size)
+    if ratios is not None and params.renderer != "lines" and np.any(ratios):
+        plan.ratios = np.asarray(ratios, np.float64)
+        indices = judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference)
+        return records(plan.subset(indices), size, layer)
     for first, stop in chunks:
-        lay_round(canvas, subset(plan, slice(first, stop)), size, tip, params)
+        lay_round(canvas, plan.subset(slice(first, stop)), size, tip, params)
     return records(plan, size, layer)
 
 
-def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: BrushTip, params: Params,
+def judge_and_lay(canvas: Canvas, plan: RoundPlan, chunks: list, size: int, tip: BrushTip, params: Params,
                   reference: np.ndarray) -> np.ndarray:
-    """Judge a plan's strokes by their ``plan["ratios"]`` (``improves``; 0 keeps a stroke unjudged) on the canvas
+    """Judge a plan's strokes by their ``plan.ratios`` (``improves``; 0 lays a stroke unjudged) on the canvas
     as the round found it, and lay the kept ones in order, one of ``lay_chunks``' (first, stop) ``chunks`` after
     another; returns the kept strokes' indices, ascending.
 
@@ -106,14 +146,14 @@ def judge_and_lay(canvas: Canvas, plan: dict, chunks: list, size: int, tip: Brus
     copy of the canvas colour taken before its first chunk is laid (the judge reads nothing else).
     """
     found = canvas.colour.copy() if len(chunks) > 1 else canvas.colour
-    kept = []
+    indices = []
     for first, stop in chunks:
-        part = subset(plan, slice(first, stop))
-        footprints, mends = judged_footprints(part, size, tip, params, found, reference)
-        keep = mends | (part["ratios"] == 0)
-        canvas.lay(footprints, params.height_mode, params.height_build, keep)
-        kept.append(first + np.flatnonzero(keep))
-    return np.concatenate(kept)
+        part = plan.subset(slice(first, stop))
+        judged = judged_footprints(part, size, tip, params, found, reference)
+        kept = judged.mends | (part.ratios == 0)
+        canvas.lay(judged.runs, params.height_mode, params.height_build, kept)
+        indices.append(first + np.flatnonzero(kept))
+    return np.concatenate(indices)
 
 
 def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, ratio,
@@ -146,27 +186,11 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
     return mended > ratio * spoiled
 
 
-def subset(plan: dict, index) -> dict:
-    """The plan of some of ``plan``'s strokes, in order: ``index`` a slice or ascending (K,) int array."""
-    paths = plan["paths"]
-    part = {key: value[index] for key, value in plan.items() if key != "paths"}
-    part["paths"] = PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment)
-    return part
-
-
 def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
     """[(first, stop), ...]: runs of consecutive strokes whose track samples times brush columns stay within
     LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
     length in px (curve samples ``sample_spacing`` apart) plus the brush's length."""
-    n = len(paths.first)
-    total = np.cumsum(track_costs(paths, tip, size))
-    bounds, first = [], 0
-    while first < n:
-        stop = int(np.searchsorted(total, (total[first - 1] if first else 0) + LAY_CHUNK_SAMPLES, side="right"))
-        stop = max(stop, first + 1)
-        bounds.append((first, stop))
-        first = stop
-    return bounds
+    return bounded_runs(track_costs(paths, tip, size), LAY_CHUNK_SAMPLES)
 
 
 def track_costs(paths: PlannedPaths, tip: BrushTip, size: int) -> np.ndarray:
@@ -177,120 +201,99 @@ def track_costs(paths: PlannedPaths, tip: BrushTip, size: int) -> np.ndarray:
 
 
 def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
-               tip: BrushTip, draws: np.ndarray, params: Params) -> dict:
-    """Everything N strokes need to be laid, planned against ``canvas`` as it is now.
+               tip: BrushTip, draws: np.ndarray, params: Params) -> RoundPlan:
+    """The (unjudged) plan of N strokes, planned against ``canvas`` as it is now.
 
-    Returns {"anchors" (N, 2), "colours" (N, B, 3) bristle colours,
-    "anchor_colours" (N, 3), "paths" PlannedPaths, "angles" (N,)}. The
-    strokes are planned in runs on the worker threads (the canvas does not
-    change in between), as many runs as a multiple of the workers,
-    PLAN_CHUNK_SAMPLES curve samples at a time in all, which bounds the
-    memory of the tests.
+    The strokes are planned in runs of equal length on the worker threads
+    (the canvas does not change in between): at least as many runs as keep
+    each within PLAN_CHUNK_SAMPLES / workers curve samples (so the workers
+    hold at most PLAN_CHUNK_SAMPLES at a time, which bounds the memory of
+    the tests), one per worker when every run has WORKER_LEAST_STROKES, and
+    a multiple of the workers, so every worker is busy to the last run.
     """
-    workers = worker_count()
+    workers, n = worker_count(), len(anchors)
     samples = (2 * max(0, params.max_length - 1) * samples_per_segment(size) + 1) * (len(tip) + 8)
-    step = max(1, PLAN_CHUNK_SAMPLES // (samples * workers))
-    n = len(anchors)
-    count = max(-(-n // step), min(workers, n // WORKER_LEAST_STROKES))
+    cost = np.full(n, samples, np.int64)
+    count = max(len(bounded_runs(cost, PLAN_CHUNK_SAMPLES // workers)), min(workers, n // WORKER_LEAST_STROKES))
     if count > 1:
-        count = min(n, -(-count // workers) * workers)                 # every worker busy to the last run
-    bounds = np.linspace(0, n, max(count, 1) + 1).astype(np.int64).tolist()
-    runs = [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
-    parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[run], size, tip, draws[run],
-                                             params), runs)
-    if len(parts) == 1:
-        return parts[0]
-    paths = [part["paths"] for part in parts]
-    plan = {key: np.concatenate([part[key] for part in parts]) for key in ("anchors", "colours", "anchor_colours",
-                                                                            "angles")}
-    plan["paths"] = PlannedPaths(np.concatenate([p.samples for p in paths]), np.concatenate([p.first for p in paths]),
-                                 np.concatenate([p.last for p in paths]), paths[0].per_segment)
-    return plan
+        count = min(n, -(-count // workers) * workers)
+    runs = balanced_runs(cost, count, 0)
+    parts = run_all(lambda run: plan_strokes(canvas, sources, orientation, anchors[slice(*run)], size, tip,
+                                             draws[slice(*run)], params), runs)
+    return parts[0] if len(parts) == 1 else RoundPlan.joined(parts)
 
 
 def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
-                 tip: BrushTip, draws: np.ndarray, params: Params) -> dict:
+                 tip: BrushTip, draws: np.ndarray, params: Params) -> RoundPlan:
     """``plan_round`` of one chunk of strokes."""
     angles = orientation[anchors[:, 1], anchors[:, 0]].astype(np.float64)
-    shift, offset = colour_jitter(draws, params.perturbation, params.hue_perturbation)
+    jitter = colour_jitter(draws, params.perturbation, params.hue_perturbation)
     deviation = params.bristle_deviation if sources.deviation is None else sources.deviation
-    colours, anchor_colours = bristle_colours(sources, anchors, angles, tip, params.bristle_alpha, deviation, shift,
-                                              offset, lightness=params.perturbation > 0)
+    colours = bristle_colours(sources, anchors, angles, tip, params.bristle_alpha, deviation, jitter.shift,
+                              jitter.offset, lightness=params.perturbation > 0)
     if params.renderer == "lines":
-        brush = anchor_colours
+        brush = colours.anchor
     else:
-        brush = np.einsum("b,nbc->nc", tip.intensity, colours) / tip.intensity.sum()
+        brush = np.einsum("b,nbc->nc", tip.intensity, colours.bristles) / tip.intensity.sum()
     paths = plan_paths(anchors, size, orientation, canvas.colour, brush, sources.reference, sources.edges, params)
-    return {"anchors": anchors, "colours": colours, "anchor_colours": anchor_colours, "paths": paths,
-            "angles": angles}
+    return RoundPlan(anchors, colours.bristles, colours.anchor, paths, angles)
 
 
-def lay_round(canvas: Canvas, plan: dict, size: int, tip: BrushTip, params: Params, one_by_one: bool = False) -> None:
-    """Lay a plan's strokes on ``canvas`` in order (each alone on its box when ``one_by_one``)."""
-    paths = plan["paths"]
+def lay_round(canvas: Canvas, plan: RoundPlan, size: int, tip: BrushTip, params: Params) -> None:
+    """Lay a plan's strokes on ``canvas`` in order."""
+    paths = plan.paths
     if params.renderer == "lines":
         every = max(1, int(size) // 4)
         for i in range(len(paths.first)):
-            kept = paths.samples[i, paths.first[i]:paths.last[i] + 1]
-            line = kept[np.unique(np.append(np.arange(0, len(kept), every), len(kept) - 1))]
-            solid_stroke(canvas, line, 0.5 * size, plan["anchor_colours"][i], 1.0, params.height_mode,
+            curve = paths.samples[i, paths.first[i]:paths.last[i] + 1]
+            line = curve[np.unique(np.append(np.arange(0, len(curve), every), len(curve) - 1))]
+            solid_stroke(canvas, line, 0.5 * size, plan.anchor_colours[i], 1.0, params.height_mode,
                          params.height_build)
         return
-    if one_by_one:
-        footprints = footprints_of(plan, size, tip, params, canvas.height.shape)
-        for i in range(len(footprints.starts) - 1):
-            canvas.lay_one(footprints, i, params.height_mode, params.height_build)
-    else:
-        canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
-                   params.height_build)
+    canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
+               params.height_build)
 
 
-def footprint_runs(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> List[Footprints]:
+def footprint_runs(plan: RoundPlan, size: int, tip: BrushTip, params: Params, shape: tuple) -> List[Footprints]:
     """The ``Footprints`` of consecutive runs of a plan's strokes on a canvas of ``shape`` (H, W), made on the
     worker threads."""
     return in_runs(plan, size, tip, lambda part: strokes_footprints(part, size, tip, params, shape))
 
 
-def footprints_of(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W)."""
-    return Footprints.joined(footprint_runs(plan, size, tip, params, shape))
-
-
-def judged_footprints(plan: dict, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
-                      reference: np.ndarray) -> tuple:
-    """(``footprint_runs`` of a plan's N strokes, (N,) bool whether each ``improves`` the canvas ``colour``
-    (H, W, 3) by its ``plan["ratios"]``), runs of strokes made and judged on the worker threads."""
-    def made_and_judged(part: dict) -> tuple:
+def judged_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params, colour: np.ndarray,
+                      reference: np.ndarray) -> JudgedFootprints:
+    """``footprint_runs`` of a plan's N strokes and whether each ``improves`` the canvas ``colour`` (H, W, 3) by
+    its ``plan.ratios``, runs of strokes made and judged on the worker threads."""
+    def made_and_judged(part: RoundPlan) -> JudgedFootprints:
         footprints = strokes_footprints(part, size, tip, params, colour.shape[:2])
-        judged = part["ratios"] > 0                                      # 0: laid unjudged
+        judged = part.ratios > 0                                         # 0: laid unjudged
         mends = np.zeros(len(judged), bool)
         if judged.any():
-            mends[judged] = improves(colour, footprints, reference, part["ratios"][judged],
+            mends[judged] = improves(colour, footprints, reference, part.ratios[judged],
                                      None if judged.all() else judged)
-        return footprints, mends
+        return JudgedFootprints([footprints], mends)
 
     parts = in_runs(plan, size, tip, made_and_judged)
-    return [part[0] for part in parts], np.concatenate([part[1] for part in parts])
+    return JudgedFootprints([part.runs[0] for part in parts], np.concatenate([part.mends for part in parts]))
 
 
-def in_runs(plan: dict, size: int, tip: BrushTip, work) -> list:
+def in_runs(plan: RoundPlan, size: int, tip: BrushTip, work) -> list:
     """[work(plan of a run of strokes), ...] over runs of a plan's strokes of about equal track samples, in order,
     on the worker threads."""
-    runs = balanced_runs(track_costs(plan["paths"], tip, size), worker_count(), WORKER_LEAST_SAMPLES)
-    return run_all(lambda run: work(subset(plan, slice(*run))), runs)
+    runs = balanced_runs(track_costs(plan.paths, tip, size), worker_count(), WORKER_LEAST_SAMPLES)
+    return run_all(lambda run: work(plan.subset(slice(*run))), runs)
 
 
-def strokes_footprints(plan: dict, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """``footprints_of`` of one run of strokes."""
-    stamps, directions, contact, relief, starts = stamp_paths(plan["paths"], plan["angles"], size, params)
+def strokes_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together."""
+    stamps = stamp_paths(plan.paths, plan.angles, size, params)
     rows = max(1.0, tip.length)
-    return track_footprints(stamps, directions, starts, tip, plan["colours"], shape,
-                            passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=relief,
+    return track_footprints(stamps.points, stamps.directions, stamps.starts, tip, plan.colours, shape,
+                            passes=max(1.0, MIN_ROWS / rows), contact=stamps.contact, stamp_relief=stamps.relief,
                             bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
 
 
-def records(plan: dict, size: int, layer: int) -> List[Stroke]:
+def records(plan: RoundPlan, size: int, layer: int) -> List[Stroke]:
     """The ``Stroke`` records of a plan's strokes, in order."""
-    paths = plan["paths"]
-    return [Stroke(layer, (int(x), int(y)), int(size), paths.polyline(i), plan["anchor_colours"][i])
-            for i, (x, y) in enumerate(plan["anchors"].tolist())]
+    return [Stroke(layer, (int(x), int(y)), int(size), plan.paths.polyline(i), plan.anchor_colours[i])
+            for i, (x, y) in enumerate(plan.anchors.tolist())]

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, Iterable
+from typing import Dict, Iterable, NamedTuple
 
 import numpy as np
 
@@ -79,23 +79,37 @@ def detail_sources(reference: np.ndarray) -> ColourSources:
     return ColourSources(reference, exact, exact, exact, deviation=0.0)
 
 
-def colour_jitter(draws: np.ndarray, lightness: float, hue: float) -> tuple:
+class ColourJitter(NamedTuple):
+    """N strokes' random colour changes (Eq. 5)."""
+
+    shift: np.ndarray           # float64 (N,) CIELAB L* offsets
+    offset: np.ndarray          # float32 (N, 3) RGB offsets
+
+
+def colour_jitter(draws: np.ndarray, lightness: float, hue: float) -> ColourJitter:
     """N strokes' random colour changes of Eq. 5 from their (N, 4) uniform ``draws`` in [0, 1).
 
-    Returns (L* offsets (N,) float64, RGB offsets (N, 3) float32): the
-    lightness offset is 100 U(-lightness, lightness) CIELAB L* units (a* and
-    b* are kept, so hue and chroma stay); when ``hue`` > 0 the RGB offset
-    adds U(-hue, hue) to each channel (hue jitter), else it is 0.
+    The lightness offset ``shift`` is 100 U(-lightness, lightness) CIELAB L*
+    units (a* and b* are kept, so hue and chroma stay); when ``hue`` > 0 the
+    RGB ``offset`` adds U(-hue, hue) to each channel (hue jitter), else it is 0.
     """
     draws = np.asarray(draws, np.float64).reshape(-1, 4)
     shift = 100.0 * lightness * (2.0 * draws[:, 0] - 1.0)
     offset = (hue * (2.0 * draws[:, 1:4] - 1.0)).astype(np.float32)
-    return shift, offset
+    return ColourJitter(shift, offset)
+
+
+class BristleColours(NamedTuple):
+    """The colours N strokes of a brush of B bristles paint with (Eq. 5)."""
+
+    bristles: np.ndarray        # float32 (N, B, 3) sRGB [0, 1], every bristle's colour
+    anchor: np.ndarray          # float32 (N, 3) sRGB, C_anchor: ``sources.anchor`` at each anchor
 
 
 def bristle_colours(sources: ColourSources, anchors: np.ndarray, angles: np.ndarray, tip: BrushTip, alpha: float,
-                    deviation: float, shift: np.ndarray, offset: np.ndarray, lightness: bool = True) -> tuple:
-    """Eq. 5 for N strokes: ((N, B, 3) sRGB colour of every bristle of ``tip``, (N, 3) anchor colours).
+                    deviation: float, shift: np.ndarray, offset: np.ndarray,
+                    lightness: bool = True) -> BristleColours:
+    """Eq. 5 for N strokes: the colour of every bristle of ``tip`` and the anchor colours.
 
     Each brush is centred on its anchor (``anchors`` (N, 2) (x, y)) and
     turned to its angle (``angles`` (N,), its along axis). C_anchor is
@@ -121,12 +135,19 @@ def bristle_colours(sources: ColourSources, anchors: np.ndarray, angles: np.ndar
         lab[:, 0] += np.repeat(shift, d.shape[1])
         mixed = lab_to_srgb(lab).reshape(d.shape)
     mixed = mixed + offset[:, None, :]
-    return np.clip(mixed, 0.0, 1.0).astype(np.float32), at_anchor
+    return BristleColours(np.clip(mixed, 0.0, 1.0).astype(np.float32), at_anchor)
 
 
-def end_profile(arc: np.ndarray, total: np.ndarray, width: float, taper: float, buildup: float) -> tuple:
-    """Per-stamp (contact, relief) (each (S,) float32) of stamps at arc lengths ``arc`` (S,) px along
-    strokes ``total`` (S,) px long (each stamp's own stroke's length).
+class EndProfile(NamedTuple):
+    """What S stamps of strokes press and build where the brush touches down and lifts off."""
+
+    contact: np.ndarray         # float32 (S,) in (0, 1], the brush's pressure
+    relief: np.ndarray          # float32 (S,) >= 1, the factor on the height the stamp builds
+
+
+def end_profile(arc: np.ndarray, total: np.ndarray, width: float, taper: float, buildup: float) -> EndProfile:
+    """The contact and relief of stamps at arc lengths ``arc`` (S,) px along strokes ``total`` (S,) px long
+    (each stamp's own stroke's length).
 
     The brush lifts off over the last taper x width px (at most half the
     stroke) and touches down over the first half of that (at most a quarter
@@ -146,7 +167,7 @@ def end_profile(arc: np.ndarray, total: np.ndarray, width: float, taper: float, 
     touching = touch > 0
     start = np.divide(arc, touch, out=np.ones_like(arc), where=touching)
     contact = contact * np.where(touching, LIFT_FLOOR + (1.0 - LIFT_FLOOR) * smoothstep(start), 1.0)
-    return contact.astype(np.float32), relief.astype(np.float32)
+    return EndProfile(contact.astype(np.float32), relief.astype(np.float32))
 
 
 def ridge_profile(across: np.ndarray, radius: float, ridge: float) -> np.ndarray:
