@@ -163,14 +163,15 @@ def test_every_visit_draws_from_its_own_stream():
 
 def test_rounds_planned_and_laid_in_small_chunks_give_the_same_bytes(monkeypatch):
     # memory bounds split a round into chunks of strokes; the painting must not notice
+    from core import tuning
     from core.strokes import compositing, rounds
 
     image = photo(11, 48, 56, "blocks")
     params = Params(seed=4, stroke_sizes=(16, 8, 4), layers=2, size_reference_megapixels=0.0027, detail_pass=True)
     whole = huang11.paint(image, params)
-    monkeypatch.setattr(rounds, "PLAN_CHUNK_SAMPLES", 1)
-    monkeypatch.setattr(rounds, "LAY_CHUNK_SAMPLES", 200)
-    monkeypatch.setattr(compositing, "SPLAT_CHUNK_PIXELS", 50)
+    monkeypatch.setattr(tuning, "PLAN_CHUNK_SAMPLES", 1)
+    monkeypatch.setattr(tuning, "LAY_CHUNK_SAMPLES", 200)
+    monkeypatch.setattr(tuning, "SPLAT_CHUNK_PIXELS", 50)
     cuts = {}
 
     def counted(module, name):

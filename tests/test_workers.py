@@ -74,10 +74,10 @@ def painted_by(monkeypatch, count: int):
     monkeypatch.setattr(canvas, "row_bands", lambda *args: bands.append(cut(*args)) or bands[-1])
     for module in (rounds, layout, canvas):
         monkeypatch.setattr(module, "worker_count", lambda: count)
-    monkeypatch.setattr(canvas, "LAY_LEAST_ENTRIES", 1)
-    monkeypatch.setattr(rounds, "WORKER_LEAST_SAMPLES", 1)
-    monkeypatch.setattr(rounds, "WORKER_LEAST_STROKES", 1)
-    monkeypatch.setattr(layout, "ANCHOR_LEAST_PIXELS", 1)
+    monkeypatch.setattr(tuning, "LAY_LEAST_ENTRIES", 1)
+    monkeypatch.setattr(tuning, "WORKER_LEAST_SAMPLES", 1)
+    monkeypatch.setattr(tuning, "WORKER_LEAST_STROKES", 1)
+    monkeypatch.setattr(tuning, "ANCHOR_LEAST_PIXELS", 1)
     return huang11.paint(image, params), max(len(p) for p in pieces), max(len(b) for b in bands)
 
 

@@ -6,11 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import tuning
 from ..workers import balanced_runs, run_all, worker_count
 from .compositing import Footprints
-
-# Entries below which a run is laid in one piece rather than in bands of rows on the worker threads.
-LAY_LEAST_ENTRIES = 1 << 16
 
 
 @dataclass
@@ -65,7 +63,7 @@ class Canvas:
         if not pieces:
             return
         bands = row_bands([entries[0] for entries, _ in pieces], [laid for _, laid in pieces], self.height.shape,
-                          worker_count(), LAY_LEAST_ENTRIES)
+                          worker_count(), tuning.LAY_LEAST_ENTRIES)
         run_all(lambda rows: self._lay_entries(*band_entries(pieces, rows, self.height.shape), height_mode, build),
                 bands)
 
@@ -108,23 +106,20 @@ class Canvas:
         return self.colour.reshape(-1, 3), self.coverage.reshape(-1), self.height.reshape(-1), self.opacity.reshape(-1)
 
 
-BAND_SAMPLE = 8
-"""Bands are balanced on the rows of every BAND_SAMPLE-th entry (where the cuts fall changes no byte)."""
-
-
 def row_bands(pixels: list, laid: list, shape: tuple, parts: int, least: int) -> list:
     """[(first, stop), ...] runs of whole rows of an (H, W) canvas, at most ``parts`` of them, holding about equal
     shares of the entries of pieces of a run: ``pixels`` [(E_i,) flat pixel indices, ...] and ``laid``
-    [(E_i,) bool or None (every entry), ...] the entries laid, counted on every BAND_SAMPLE-th entry. At least
+    [(E_i,) bool or None (every entry), ...] the entries laid, counted on every tuning.BAND_SAMPLE-th entry. At least
     ``least`` entries each (``balanced_runs``: one run of every row when there are fewer than 2 ``least``)."""
     h, w = shape
     if parts <= 1:
         return [(0, h)]
     rows = np.zeros(h, np.int64)
     for pixel, selected in zip(pixels, laid, strict=True):
-        sample = pixel[::BAND_SAMPLE] if selected is None else pixel[::BAND_SAMPLE][selected[::BAND_SAMPLE]]
+        every = tuning.BAND_SAMPLE
+        sample = pixel[::every] if selected is None else pixel[::every][selected[::every]]
         rows += np.bincount(sample // w, minlength=h)
-    return balanced_runs(rows * BAND_SAMPLE, parts, least)
+    return balanced_runs(rows * tuning.BAND_SAMPLE, parts, least)
 
 
 def band_entries(pieces: list, rows: tuple, shape: tuple) -> tuple:

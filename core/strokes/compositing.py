@@ -27,13 +27,10 @@ from typing import NamedTuple
 import numpy as np
 from scipy import sparse
 
+from .. import tuning
 from ..workers import bounded_runs
 from .brush import BrushTip
 from .folding import RowTables, run_colours, tip_grid
-
-# Box pixels accumulated at once when splatting: a chunk's sums (6 float32 values each, 6 MiB) stay in the
-# processor's cache while the sparse product scatters into them, and bound the scratch memory.
-SPLAT_CHUNK_PIXELS = 1 << 18
 
 
 @dataclass
@@ -270,7 +267,7 @@ def _splat(x: np.ndarray, y: np.ndarray, span: np.ndarray, values: np.ndarray, t
     values = values.reshape(-1, 6)
     inside = (x0 >= 0) & (y0 >= 0) & (x0 + box_w <= w) & (y0 + area // box_w <= h)         # (N,) box on the canvas
     pixels, sums, counts = [], [], []
-    for a, b in bounded_runs(area, SPLAT_CHUNK_PIXELS):
+    for a, b in bounded_runs(area, tuning.SPLAT_CHUNK_PIXELS):
         lo, hi = int(track_starts[a]), int(track_starts[b])
         box_start = np.zeros(b - a + 1, np.int64)
         np.cumsum(area[a:b], out=box_start[1:])

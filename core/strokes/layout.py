@@ -6,6 +6,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import tuning
 from ..workers import balanced_runs, bounded_runs, run_all, worker_count
 from .canvas import Canvas
 
@@ -48,12 +49,6 @@ def grid_pixels(grids: np.ndarray) -> GridPixels:
     return GridPixels(grids[owner, 0] + lx, grids[owner, 1] + ly, starts)
 
 
-# Grid pixels looked at together at most when choosing anchors (bounds the memory: about 250 bytes each).
-ANCHOR_CHUNK_PIXELS = 1 << 18
-# Grid pixels below which anchor choice is not split between worker threads.
-ANCHOR_LEAST_PIXELS = 1 << 16
-
-
 class ChosenAnchors(NamedTuple):
     """The anchors of N grids of one layer and stroke size."""
 
@@ -83,18 +78,18 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
        line up on grid corners.
     Grids are looked at in runs of about equal pixels on the worker threads
     (each grid's choice is its own): one per worker, or as many as keep each
-    within ANCHOR_CHUNK_PIXELS / workers pixels (so the workers look at about
-    ANCHOR_CHUNK_PIXELS at a time), none of fewer than ANCHOR_LEAST_PIXELS.
+    within tuning.ANCHOR_CHUNK_PIXELS / workers pixels (so the workers look at about
+    tuning.ANCHOR_CHUNK_PIXELS at a time), none of fewer than tuning.ANCHOR_LEAST_PIXELS.
     """
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
     if len(grids) == 0:
         return ChosenAnchors(np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool))
     areas = (grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1])
     workers = worker_count()
-    count = max(workers, len(bounded_runs(areas, max(1, ANCHOR_CHUNK_PIXELS // workers))))
+    count = max(workers, len(bounded_runs(areas, max(1, tuning.ANCHOR_CHUNK_PIXELS // workers))))
     parts = run_all(lambda run: _choose_anchors(grids[slice(*run)], coverage, colour, reference, coverage_threshold,
                                                 difference_threshold, ties[slice(*run)]),
-                    balanced_runs(areas, count, ANCHOR_LEAST_PIXELS))
+                    balanced_runs(areas, count, tuning.ANCHOR_LEAST_PIXELS))
     return ChosenAnchors(*(np.concatenate(arrays) for arrays in zip(*parts, strict=True)))
 
 

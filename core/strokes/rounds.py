@@ -14,6 +14,7 @@ from typing import List, NamedTuple
 
 import numpy as np
 
+from .. import tuning
 from ..params import Params
 from ..workers import balanced_runs, bounded_runs, run_all, worker_count
 from .brush import BrushTip
@@ -31,18 +32,6 @@ from .stroke import (
     end_profile,
     ridge_profile,
 )
-
-# Curve samples (times bristles and channels, roughly) planned together at most: bounds the memory of planning.
-PLAN_CHUNK_SAMPLES = 1 << 23
-
-# Track samples (times brush columns) laid together at most: bounds the memory of a round's footprints
-# (about 100 bytes each), whatever the brush size.
-LAY_CHUNK_SAMPLES = 1 << 20
-
-# Track samples (times brush columns) below which a run of strokes is not split between worker threads.
-WORKER_LEAST_SAMPLES = 1 << 15
-# Strokes below which a round's planning is not split between worker threads.
-WORKER_LEAST_STROKES = 64
 
 
 @dataclass
@@ -188,9 +177,9 @@ def improves(colour: np.ndarray, footprints: Footprints, reference: np.ndarray, 
 
 def lay_chunks(paths: PlannedPaths, tip: BrushTip, size: int) -> list:
     """[(first, stop), ...]: runs of consecutive strokes whose track samples times brush columns stay within
-    LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
+    tuning.LAY_CHUNK_SAMPLES (a stroke of more is a run of its own). A stroke's track is at most its kept curve's
     length in px (curve samples ``sample_spacing`` apart) plus the brush's length."""
-    return bounded_runs(track_costs(paths, tip, size), LAY_CHUNK_SAMPLES)
+    return bounded_runs(track_costs(paths, tip, size), tuning.LAY_CHUNK_SAMPLES)
 
 
 def track_costs(paths: PlannedPaths, tip: BrushTip, size: int) -> np.ndarray:
@@ -206,15 +195,15 @@ def plan_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, 
 
     The strokes are planned in runs of equal length on the worker threads
     (the canvas does not change in between): at least as many runs as keep
-    each within PLAN_CHUNK_SAMPLES / workers curve samples (so the workers
-    hold at most PLAN_CHUNK_SAMPLES at a time, which bounds the memory of
-    the tests), one per worker when every run has WORKER_LEAST_STROKES, and
+    each within tuning.PLAN_CHUNK_SAMPLES / workers curve samples (so the workers
+    hold at most tuning.PLAN_CHUNK_SAMPLES at a time, which bounds the memory of
+    the tests), one per worker when every run has tuning.WORKER_LEAST_STROKES, and
     a multiple of the workers, so every worker is busy to the last run.
     """
     workers, n = worker_count(), len(anchors)
     samples = (2 * max(0, params.max_length - 1) * samples_per_segment(size) + 1) * (len(tip) + 8)
     cost = np.full(n, samples, np.int64)
-    count = max(len(bounded_runs(cost, PLAN_CHUNK_SAMPLES // workers)), min(workers, n // WORKER_LEAST_STROKES))
+    count = max(len(bounded_runs(cost, tuning.PLAN_CHUNK_SAMPLES // workers)), min(workers, n // tuning.WORKER_LEAST_STROKES))
     if count > 1:
         count = min(n, -(-count // workers) * workers)
     runs = balanced_runs(cost, count, 0)
@@ -280,7 +269,7 @@ def judged_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params,
 def in_runs(plan: RoundPlan, size: int, tip: BrushTip, work) -> list:
     """[work(plan of a run of strokes), ...] over runs of a plan's strokes of about equal track samples, in order,
     on the worker threads."""
-    runs = balanced_runs(track_costs(plan.paths, tip, size), worker_count(), WORKER_LEAST_SAMPLES)
+    runs = balanced_runs(track_costs(plan.paths, tip, size), worker_count(), tuning.WORKER_LEAST_SAMPLES)
     return run_all(lambda run: work(plan.subset(slice(*run))), runs)
 
 
