@@ -102,6 +102,7 @@ bench: $(STAMP)
 	$(PY) bench/solve.py
 	$(PY) bench/paint.py
 	$(PY) bench/strokes.py
+	$(PY) bench/speedups.py
 	$(PY) bench/hertzmann.py
 	$(PY) bench/lighting.py
 	$(PY) bench/blender.py
