@@ -1,5 +1,9 @@
 """Reading images: photographs, masks and brush maps as sRGB values, EXR maps as stored, headers and image counts.
 
+A Blender multilayer EXR (one part per pass, or one part whose channels are
+named ``<ViewLayer>.<Pass>.<Channel>``) is one picture, its ``Combined``
+pass; ``read_pass`` reads any other pass, such as ``Vector``, as stored.
+
 Every reader raises ``InputError`` with one sentence naming the file and the
 problem: missing, a folder, a URL, unreadable, truncated, empty, above the
 pixel limit (checked from the header before any pixel is decoded) or holding
@@ -110,7 +114,8 @@ def _opened(path: pathlib.Path, max_megapixels: float, config=None, role: str = 
 
 
 def _read_pixels(path: PathLike, max_megapixels: float, role: str = "input") -> Tuple[np.ndarray, bool, bool]:
-    """Read the first subimage, mip level 0, of any file OpenImageIO reads.
+    """Read the picture of any file OpenImageIO reads: subimage 0, or the Combined pass of a Blender multilayer
+    EXR, at mip level 0.
 
     Returns ``(data, has_alpha, linear)``: ``data`` float32 (H, W, C) with
     C = channels of the file (integer data divided by its type's maximum,
@@ -123,7 +128,11 @@ def _read_pixels(path: PathLike, max_megapixels: float, role: str = "input") -> 
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
     with _opened(path, max_megapixels, config, role) as (inp, spec, _):
-        data = upright(_read_first_image(path, inp, spec, role), spec.get_int_attribute("Orientation", 1))
+        subimage, spec, channels = _picture(path, inp, spec, max_megapixels, role)
+        data = _read_subimage(path, inp, spec, subimage, role)
+        if channels is not None:
+            data = np.ascontiguousarray(data[:, :, channels])
+        data = upright(data, spec.get_int_attribute("Orientation", 1))
         linear = _is_linear(path, inp.format_name(), spec)
         associated = spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0
     if not np.all(np.isfinite(data)):
@@ -132,6 +141,62 @@ def _read_pixels(path: PathLike, max_megapixels: float, role: str = "input") -> 
     if has_alpha and associated:
         data = _unpremultiply(data)
     return data, has_alpha, linear
+
+
+COMBINED = ("Combined", "RGBA")
+"""The pass of a Blender multilayer EXR that holds the rendered picture, and its channels."""
+
+
+def _picture(path: pathlib.Path, inp, spec, max_megapixels: float, role: str) -> Tuple[int, object, object]:
+    """Where the picture of the open file ``inp`` is: (subimage, its ImageSpec, channel indices or None for all).
+
+    A Blender multilayer EXR's picture is its first Combined pass (R, G, B, A),
+    found by name in any part; any other file's is subimage 0 (``spec``).
+    The Combined part's header is checked like subimage 0's.
+    """
+    found = _find_pass(inp, *COMBINED)
+    if found is None:
+        return 0, spec, None
+    _check_spec(path, found[1], max_megapixels, role)
+    return found
+
+
+def pass_channels(names: Sequence[str], pass_name: str, letters: str):
+    """Indices into ``names`` of the channels ``<layer>.<pass_name>.<letter>`` (or ``<pass_name>.<letter>``) for
+    each of ``letters`` in order, for the first layer (in channel order) that has them all; None when none has.
+
+    Blender names a multilayer EXR's channels ``ViewLayer.Vector.X``.
+    """
+    index = {name: i for i, name in enumerate(names)}
+    heads = dict.fromkeys(name.rpartition(".")[0] for name in names)
+    for head in heads:
+        if head == pass_name or head.endswith("." + pass_name):
+            wanted = [f"{head}.{letter}" for letter in letters]
+            if all(name in index for name in wanted):
+                return [index[name] for name in wanted]
+    return None
+
+
+def _find_pass(inp, pass_name: str, letters: str):
+    """(subimage, ImageSpec, channel indices) of the first part of the open EXR ``inp`` holding Blender's pass
+    ``pass_name`` with channels ``letters`` (``pass_channels``); None when no part holds it or the file is not
+    an EXR. Reads headers only; leaves ``inp`` at any of its subimages."""
+    if inp.format_name() != "openexr":
+        return None
+    for subimage, spec in _parts(inp):
+        channels = pass_channels(spec.channelnames, pass_name, letters)
+        if channels is not None:
+            return subimage, spec, channels
+    return None
+
+
+def _parts(inp) -> Iterator[tuple]:
+    """(subimage, ImageSpec) of each image of the open file ``inp``, first to last, at most MAX_COUNTED."""
+    subimage = 0
+    while subimage < MAX_COUNTED and inp.seek_subimage(subimage, 0):
+        yield subimage, inp.spec()
+        subimage += 1
+    inp.geterror()  # the failed seek past the last image leaves an error message
 
 
 def upright(data: np.ndarray, orientation: int) -> np.ndarray:
@@ -167,11 +232,12 @@ def _check_spec(path: pathlib.Path, spec, max_megapixels: float, role: str = "in
             f"more than the limit of {max_megapixels:g} megapixels.")
 
 
-def _read_first_image(path: pathlib.Path, inp, spec, role: str = "input") -> np.ndarray:
-    """Pixels of subimage 0, mip 0 as float32 (H, W, C); InputError when reading fails or is partial."""
+def _read_subimage(path: pathlib.Path, inp, spec, subimage: int = 0, role: str = "input") -> np.ndarray:
+    """Pixels of ``subimage`` (whose ImageSpec is ``spec``), mip 0, as float32 (H, W, C); integer data divided
+    by its type's maximum. InputError when reading fails or is partial."""
     native = {"uint8": np.uint8, "uint16": np.uint16}.get(str(spec.format))
     fmt = str(spec.format) if native is not None else "float"
-    pixels = inp.read_image(0, 0, 0, spec.nchannels, fmt)
+    pixels = inp.read_image(subimage, 0, 0, spec.nchannels, fmt)
     error = inp.geterror() if inp.has_error else ""
     if pixels is None or error:
         why = reason(error or oiio.geterror(), "the pixel data could not be read", path)
@@ -213,30 +279,36 @@ def _to_srgb(colour: np.ndarray, linear: bool) -> np.ndarray:
 
 
 def probe(path: PathLike, max_megapixels: float = float("inf"), role: str = "input") -> Tuple[int, int, int]:
-    """(width, height, channels) of the first image in ``path``, from its header alone (no pixel is decoded).
+    """(width, height, channels) of the picture in ``path`` (as ``read_image`` chooses it: subimage 0, or a
+    Blender multilayer EXR's Combined pass), from its headers alone (no pixel is decoded).
 
     Same InputError rules as ``read_image`` for missing, empty, unreadable
     and too large files; sentences call the file by ``role`` ('input', 'mask').
     """
-    with _opened(local_path(path, role), max_megapixels, role=role) as (_, spec, _):
-        return int(spec.width), int(spec.height), int(spec.nchannels)
+    path = local_path(path, role)
+    with _opened(path, max_megapixels, role=role) as (inp, spec, _):
+        _, spec, channels = _picture(path, inp, spec, max_megapixels, role)
+        return int(spec.width), int(spec.height), int(spec.nchannels if channels is None else len(channels))
 
 
 def image_count(path: PathLike) -> int:
     """How many images ``path`` holds, from its headers: the pages of a TIFF, the parts of an EXR, the frames of
     a GIF or of an animated PNG; 1 for a plain picture. The painter paints the first of them (subimage 0).
 
-    Counting stops at MAX_COUNTED. Same InputError rules as ``probe``.
+    The parts of a Blender multilayer EXR are the passes of its pictures:
+    its images are its parts holding a Combined pass (one per view layer),
+    and the painter paints the first of those. Counting stops at
+    MAX_COUNTED. Same InputError rules as ``probe``.
     """
     path = local_path(path)
     frames = _apng_frames(path)
     with _opened(path, float("inf")) as (inp, spec, _):
         count = spec.get_int_attribute("oiio:subimages", 0)
         if count <= 0:
-            count = 1
-            while count < MAX_COUNTED and inp.seek_subimage(count, 0):
-                count += 1
-            inp.geterror()  # the failed seek past the last image leaves an error message
+            count = sum(1 for _ in _parts(inp))
+        if inp.format_name() == "openexr":
+            pictures = sum(1 for _, part in _parts(inp) if pass_channels(part.channelnames, *COMBINED) is not None)
+            count = pictures or count
     return max(count, frames)
 
 
@@ -347,6 +419,29 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
         raise InputError(f"The image {path} holds NaN or infinite values.")
     data, names = _restore_channel_order(data, names, attributes.get(CHANNEL_ORDER_ATTR))
     return data, names, attributes
+
+
+def read_pass(path: PathLike, pass_name: str, letters: str, role: str = "input"):
+    """The channels ``letters`` of Blender's pass ``pass_name`` in a multilayer EXR, as stored (no conversion).
+
+    E.g. ``read_pass(path, "Vector", "XYZW")``: float32 (H, W, len(letters)),
+    channel k is ``<ViewLayer>.<pass_name>.<letters[k]>`` of the first part
+    holding them all, found by name (``pass_channels``); rows top first, as
+    OpenImageIO reads them. None when the file holds no such pass (or is
+    not an EXR). InputError as ``read_exr``; sentences call the file by
+    ``role`` ('input', 'frame').
+    """
+    path = local_path(path, role)
+    with _opened(path, float("inf"), role=role) as (inp, _, _printed):
+        found = _find_pass(inp, pass_name, letters)
+        if found is None:
+            return None
+        subimage, spec, channels = found
+        _check_spec(path, spec, float("inf"), role)
+        data = np.ascontiguousarray(_read_subimage(path, inp, spec, subimage, role)[:, :, channels])
+    if not np.all(np.isfinite(data)):
+        raise InputError(f"The {_noun(role)} {path} holds NaN or infinite values in its {pass_name} pass.")
+    return data
 
 
 def read_attributes(path: PathLike) -> Dict[str, object]:
