@@ -5,8 +5,8 @@ and JSON (``writing``) and what the two share (``image_files``), the
 painting's folder of maps and its report (``export``), the all-or-nothing
 commit of a folder's outputs (``staging``, with its folder lock and signal
 handling), checks of a painted folder's maps (``maps``), the memory and
-size budget of an input (``budget``) and quieting the image libraries' own
-messages (``quiet``).
+size budget of an input (``budget``), the frames of a sequence
+(``frames``) and quieting the image libraries' own messages (``quiet``).
 """
 
 from .budget import check, check_bomb, check_stroke_sizes, estimate_bytes, parse_size

@@ -18,7 +18,7 @@ import pathlib
 import re
 import stat
 import struct
-from typing import Dict, Iterator, List, Sequence, Tuple
+from typing import Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import OpenImageIO as oiio
@@ -147,7 +147,8 @@ COMBINED = ("Combined", "RGBA")
 """The pass of a Blender multilayer EXR that holds the rendered picture, and its channels."""
 
 
-def _picture(path: pathlib.Path, inp, spec, max_megapixels: float, role: str) -> Tuple[int, object, object]:
+def _picture(path: pathlib.Path, inp, spec, max_megapixels: float,
+             role: str) -> Tuple[int, oiio.ImageSpec, Optional[List[int]]]:
     """Where the picture of the open file ``inp`` is: (subimage, its ImageSpec, channel indices or None for all).
 
     A Blender multilayer EXR's picture is its first Combined pass (R, G, B, A),
@@ -161,7 +162,7 @@ def _picture(path: pathlib.Path, inp, spec, max_megapixels: float, role: str) ->
     return found
 
 
-def pass_channels(names: Sequence[str], pass_name: str, letters: str):
+def pass_channels(names: Sequence[str], pass_name: str, letters: str) -> Optional[List[int]]:
     """Indices into ``names`` of the channels ``<layer>.<pass_name>.<letter>`` (or ``<pass_name>.<letter>``) for
     each of ``letters`` in order, for the first layer (in channel order) that has them all; None when none has.
 
@@ -177,7 +178,7 @@ def pass_channels(names: Sequence[str], pass_name: str, letters: str):
     return None
 
 
-def _find_pass(inp, pass_name: str, letters: str):
+def _find_pass(inp, pass_name: str, letters: str) -> Optional[Tuple[int, oiio.ImageSpec, List[int]]]:
     """(subimage, ImageSpec, channel indices) of the first part of the open EXR ``inp`` holding Blender's pass
     ``pass_name`` with channels ``letters`` (``pass_channels``); None when no part holds it or the file is not
     an EXR. Reads headers only; leaves ``inp`` at any of its subimages."""
@@ -421,7 +422,7 @@ def read_exr(path: PathLike) -> Tuple[np.ndarray, List[str], Dict[str, object]]:
     return data, names, attributes
 
 
-def read_pass(path: PathLike, pass_name: str, letters: str, role: str = "input"):
+def read_pass(path: PathLike, pass_name: str, letters: str, role: str = "input") -> Optional[np.ndarray]:
     """The channels ``letters`` of Blender's pass ``pass_name`` in a multilayer EXR, as stored (no conversion).
 
     E.g. ``read_pass(path, "Vector", "XYZW")``: float32 (H, W, len(letters)),
