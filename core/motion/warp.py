@@ -1,0 +1,82 @@
+"""Bilinear sampling of an image at positions, and warping frame t+1 back onto frame t (ALGORITHM §9).
+
+Pixel (row i, column j) has its centre at position (x, y) = (j, i): x right,
+y down, in pixels. A position is *in the frame* when it lies within the
+pixel centres, 0 <= x <= W - 1 and 0 <= y <= H - 1, where bilinear
+interpolation needs no value from outside the image, give or take
+EDGE_TOLERANCE (a motion read from a file is rounded to float32: a pixel
+moved exactly onto the edge must not fall out by 1e-6 px). A position
+outside the frame (or not finite) is not visible: its sample is the nearest
+edge's value and the mask returned with it says False.
+"""
+
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+EDGE_TOLERANCE = 1e-3  # px: how far outside the pixel centres a position still counts as in the frame
+
+
+def pixel_positions(height: int, width: int) -> np.ndarray:
+    """The centres of an image's pixels: float32 (height, width, 2), [..., 0] = x = column, [..., 1] = y = row."""
+    rows, columns = np.mgrid[0:height, 0:width].astype(np.float32)
+    return np.stack([columns, rows], axis=-1)
+
+
+def inside_frame(positions: np.ndarray, height: int, width: int) -> np.ndarray:
+    """Which positions lie in a (height, width) frame.
+
+    positions: (..., 2) x, y in pixels. Returns bool (...): finite and within
+    0 <= x <= width - 1, 0 <= y <= height - 1, up to EDGE_TOLERANCE.
+    """
+    p = np.asarray(positions)
+    x, y = p[..., 0], p[..., 1]
+    low, right, bottom = -EDGE_TOLERANCE, width - 1 + EDGE_TOLERANCE, height - 1 + EDGE_TOLERANCE
+    return (x >= low) & (x <= right) & (y >= low) & (y <= bottom)
+
+
+def bilinear(image: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """An image's values at sub-pixel positions, by bilinear interpolation of its four nearest pixels.
+
+    image: (H, W) or (H, W, C), any real values.
+    positions: (..., 2) x, y in pixels (pixel centres at whole numbers).
+    Returns float32 (...) or (..., C). A position outside the frame takes
+    the value at the nearest point of the frame (see ``inside_frame``); a
+    non-finite one the value of pixel (0, 0).
+    """
+    values = np.asarray(image, dtype=np.float32)
+    height, width = values.shape[:2]
+    p = np.nan_to_num(np.asarray(positions, dtype=np.float32), nan=0.0)
+    x = np.clip(p[..., 0], 0.0, width - 1)
+    y = np.clip(p[..., 1], 0.0, height - 1)
+    x0 = np.floor(x).astype(np.intp)
+    y0 = np.floor(y).astype(np.intp)
+    x1 = np.minimum(x0 + 1, width - 1)
+    y1 = np.minimum(y0 + 1, height - 1)
+    fx = x - x0
+    fy = y - y0
+    if values.ndim == 3:
+        fx, fy = fx[..., None], fy[..., None]
+    top = (1.0 - fx) * values[y0, x0] + fx * values[y0, x1]
+    bottom = (1.0 - fx) * values[y1, x0] + fx * values[y1, x1]
+    return ((1.0 - fy) * top + fy * bottom).astype(np.float32, copy=False)
+
+
+def warp_back(next_frame: np.ndarray, forward: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Frame t+1 seen from frame t: V_{t+1}(x + w_f(x)) at every pixel x of frame t.
+
+    next_frame: (H, W) or (H, W, C) values of frame t+1.
+    forward: float32 (H, W, 2) motion of frame t to frame t+1, pixels, x right, y down.
+    Returns (warped, inside): float32 values shaped as ``next_frame``, and bool
+    (H, W), False where x + w_f(x) leaves frame t+1 (there the value is the
+    nearest edge's and is not visible).
+    """
+    values = np.asarray(next_frame)
+    motion = np.asarray(forward, dtype=np.float32)
+    height, width = values.shape[:2]
+    if motion.shape != (height, width, 2):
+        raise ValueError(f"a motion for a {height} x {width} frame is ({height}, {width}, 2); got {motion.shape}")
+    targets = pixel_positions(height, width) + motion
+    return bilinear(values, targets), inside_frame(targets, height, width)
