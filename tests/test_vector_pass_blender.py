@@ -6,8 +6,8 @@ temporary folder), three 48 x 32 px frames of an orthographic camera that
 moves exactly RIGHT_PX pixels to the right and DOWN_PX pixels down the image
 every frame over a textured plane. The plane then moves by (-RIGHT_PX,
 -DOWN_PX) px in image axes (x right, y down) from one frame to the next, and
-by the opposite back. The frames' Vector and Combined parts are read here
-with OpenImageIO.
+by the opposite back. The frames' Vector and Combined parts are read as
+the painter reads them (``core.files``).
 """
 
 import importlib.util
@@ -17,10 +17,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import OpenImageIO as oiio
 import pytest
 
-from core.colour import linear_to_srgb
+from core.files.frames import read_vector_pass
+from core.files.reading import read_image
 from core.motion import backward_motion, forward_motion, motion_pair, visible_in_both, warping_error
 
 REPO = Path(__file__).resolve().parent.parent
@@ -28,18 +28,6 @@ SCRIPT = REPO / "tests" / "blender" / "vector_pass_render.py"
 WIDTH, HEIGHT, FRAMES = 48, 32, 3
 RIGHT_PX, DOWN_PX = 2, 1  # the camera's step every frame, px
 FORWARD = (-RIGHT_PX, -DOWN_PX)  # the plane's motion from frame t to t+1 in image axes, px
-
-
-def _part(path: Path, suffix: str) -> np.ndarray:
-    """The pixels (H, W, C) float32 of the part of a multi-part EXR whose name ends with ``suffix``."""
-    subimage = 0
-    while True:
-        buffer = oiio.ImageBuf(str(path), subimage, 0)
-        if buffer.has_error:
-            raise AssertionError(f"{path} has no part named *{suffix}")
-        if buffer.spec().get_string_attribute("name").endswith(suffix):
-            return buffer.get_pixels(oiio.FLOAT)
-        subimage += 1
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +42,7 @@ def frames(tmp_path_factory):
                          env=dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user")))
     paths = [out / f"frame_{n:04d}.exr" for n in range(1, FRAMES + 1)]
     assert run.returncode == 0 and all(p.is_file() for p in paths), run.stdout[-3000:] + run.stderr[-3000:]
-    return [(_part(p, ".Vector"), np.clip(linear_to_srgb(_part(p, ".Combined")[..., :3]), 0.0, 1.0)) for p in paths]
+    return [(read_vector_pass(p), read_image(p)) for p in paths]
 
 
 @pytest.mark.blender
