@@ -23,6 +23,7 @@ CORE_LAYERS = [
     ("lighting", {"core.lighting"}),
     ("files", {"core.files"}),
     ("analysis", {"core.analysis"}),
+    ("motion", {"core.motion"}),
     ("strokes", {"core.strokes"}),
     ("measures", {"core.measures"}),
     ("methods", {"core.methods"}),
