@@ -39,12 +39,14 @@ from pathlib import Path
 from typing import Callable, Dict, List, Tuple
 
 import numpy as np
-import OpenImageIO as oiio
 from scipy import ndimage
 from threadpoolctl import threadpool_limits
 
 from common import ROOT  # noqa: F401  (puts the repository on sys.path)
-from core.colour import linear_to_srgb, luminance
+from core.colour import luminance
+from core.files.frames import read_vector_pass
+from core.files.reading import read_image
+from core.motion import backward_motion, forward_motion, visible_in_both, warp_back, warping_error
 from core.motion.optical_flow import optical_flow
 
 Flow = Callable[[np.ndarray, np.ndarray], np.ndarray]
@@ -54,54 +56,12 @@ OUTLIER = 3.0
 """End-point error in pixels above which a pixel counts in the ">3 px" column."""
 
 
-def read_part(path: Path, suffix: str) -> np.ndarray:
-    """The pixels (H, W, C) float32 of the part of multilayer EXR ``path`` whose name ends with ``suffix``."""
-    subimage = 0
-    while True:
-        buf = oiio.ImageBuf(str(path), subimage, 0)
-        if buf.has_error:
-            raise KeyError("{} has no part named *{}".format(path, suffix))
-        if buf.spec().get_string_attribute("name").endswith(suffix):
-            return buf.get_pixels(oiio.FLOAT)
-        subimage += 1
-
-
 def read_frame(path: Path) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(sRGB (H, W, 3) in [0, 1], forward motion (H, W, 2), backward motion (H, W, 2)) of one rendered frame."""
-    vector = read_part(path, ".Vector")
-    forward = np.stack([-vector[..., 2], vector[..., 3]], axis=-1)
-    backward = np.stack([vector[..., 0], -vector[..., 1]], axis=-1)
-    return linear_to_srgb(read_part(path, ".Combined")[..., :3]), forward, backward
-
-
-def sample(values: np.ndarray, flow: np.ndarray) -> np.ndarray:
-    """(H, W) or (H, W, C) ``values`` read bilinearly at x + flow(x), clamped to the frame (float32)."""
-    rows, columns = np.indices(flow.shape[:2], dtype=np.float32)
-    where = [rows + flow[..., 1], columns + flow[..., 0]]
-    if values.ndim == 2:
-        return ndimage.map_coordinates(values, where, order=1, mode="nearest", output=np.float32)
-    return np.stack([ndimage.map_coordinates(values[..., c], where, order=1, mode="nearest", output=np.float32)
-                     for c in range(values.shape[2])], axis=-1)
-
-
-def visible(forward: np.ndarray, backward: np.ndarray) -> np.ndarray:
-    """(H, W) bool: pixels of frame t that pass the forward-backward check of ALGORITHM §9 and land inside."""
-    back = sample(backward, forward)
-    squared = lambda f: (f * f).sum(axis=-1)  # noqa: E731
-    consistent = squared(forward + back) <= 0.01 * (squared(forward) + squared(back)) + 0.5
-    du_dy, du_dx = np.gradient(forward[..., 0])
-    dv_dy, dv_dx = np.gradient(forward[..., 1])
-    smooth = du_dx ** 2 + du_dy ** 2 + dv_dx ** 2 + dv_dy ** 2 <= 0.01 * squared(forward) + 0.002
-    h, w = forward.shape[:2]
-    rows, columns = np.indices((h, w), dtype=np.float32)
-    x, y = columns + forward[..., 0], rows + forward[..., 1]
-    inside = (x >= 0) & (x <= w - 1) & (y >= 0) & (y <= h - 1)
-    return consistent & smooth & inside
-
-
-def warping_error(first: np.ndarray, second: np.ndarray, flow: np.ndarray, mask: np.ndarray) -> float:
-    """Mean over the ``mask`` pixels and the channels of (first(x) − second(x + flow(x)))²."""
-    return float(((first - sample(second, flow)) ** 2)[mask].mean())
+    vector = read_vector_pass(path)
+    if vector is None:
+        raise SystemExit("{} has no Vector pass: render the frames with sample_scenes/sequence_scene.py".format(path))
+    return read_image(path), forward_motion(vector), backward_motion(vector)
 
 
 def pyramidal_lucas_kanade(first: np.ndarray, second: np.ndarray, sigma: float = 3.0, warps: int = 3) -> np.ndarray:
@@ -120,7 +80,7 @@ def pyramidal_lucas_kanade(first: np.ndarray, second: np.ndarray, sigma: float =
             flow = np.stack([ndimage.zoom(flow[..., c], scale, order=1, mode="nearest", grid_mode=True,
                                           output=np.float32) * np.float32(scale[1 - c]) for c in range(2)], axis=-1)
         for _ in range(warps):
-            warped = sample(b, flow)
+            warped = warp_back(b, flow)[0]
             gy, gx = np.gradient((a + warped) * 0.5)
             dt = warped - a
             sxx, sxy, syy, sxt, syt = (ndimage.gaussian_filter(p, sigma) for p in
@@ -218,7 +178,7 @@ def load_pairs(folder: Path) -> List[dict]:
     if len(paths) < 2:
         raise SystemExit("{} holds fewer than two EXR frames".format(folder))
     frames = [read_frame(path) for path in paths]
-    return [{"first": a[0], "second": b[0], "truth": a[1], "mask": visible(a[1], b[2])}
+    return [{"first": a[0], "second": b[0], "truth": a[1], "mask": visible_in_both(a[1], b[2])}
             for a, b in zip(frames[:-1], frames[1:], strict=True)]
 
 
