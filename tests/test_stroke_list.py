@@ -189,14 +189,17 @@ def test_a_strokes_contact_factor_fades_it(painting):
         ones = strokes_footprints(plan, size, tip, params, shape)
         for field in dataclasses.fields(full):
             assert getattr(full, field.name).tobytes() == getattr(ones, field.name).tobytes(), field.name
-    # one stroke alone at contact 0, 1/3, 2/3 and 1: nothing, then more and more of it
+    # one stroke alone at contact 0, 1/3, 2/3 and 1: nothing, then more and more of it (a solid line's opacity)
     one = strokes.subset([0])
-    faded = [laid(dataclasses.replace(one, contact=np.array([k / 3], np.float32)), shape, params) for k in range(4)]
-    assert same_maps(faded[0], Canvas.blank(shape, params.canvas_colour))
-    assert same_maps(faded[3], laid(one, shape, params))
-    for name in ("opacity", "coverage", "height"):
-        totals = [float(getattr(canvas, name).sum()) for canvas in faded]
-        assert totals[0] == 0 < totals[1] < totals[2] < totals[3], name
+    for renderer in ("bristles", "lines"):
+        drawn = dataclasses.replace(params, renderer=renderer)
+        faded = [laid(dataclasses.replace(one, contact=np.array([k / 3], np.float32)), shape, drawn)
+                 for k in range(4)]
+        assert same_maps(faded[0], Canvas.blank(shape, params.canvas_colour))
+        assert same_maps(faded[3], laid(one, shape, drawn))
+        for name in ("opacity", "coverage", "height"):
+            totals = [float(getattr(canvas, name).sum()) for canvas in faded]
+            assert totals[0] == 0 < totals[1] < totals[2] < totals[3], (renderer, name)
     # the whole painting with the last layer's strokes half faded differs only where they lie
     last = strokes.layer == strokes.layer.max()
     half = laid(dataclasses.replace(strokes, contact=np.where(last, 0.5, 1.0).astype(np.float32)), shape, params)
