@@ -59,9 +59,9 @@ def strokes_by_width(pixels) -> dict:
     spent = {}
     lay = huang11.paint_round
 
-    def timed(canvas, sources, orientation, anchors, size, *rest):
+    def timed(canvas, sources, orientation, anchors, size, *rest, **options):
         start = time.perf_counter()
-        strokes = lay(canvas, sources, orientation, anchors, size, *rest)
+        strokes = lay(canvas, sources, orientation, anchors, size, *rest, **options)
         count, seconds = spent.get(size, (0, 0.0))
         spent[size] = (count + len(strokes), seconds + time.perf_counter() - start)
         return strokes

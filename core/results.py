@@ -61,7 +61,8 @@ class Painting:
     colour (H, W, 3) sRGB [0, 1]; height (H, W) >= 0 (1 = one full bristle's
     contact); opacity and coverage (H, W) [0, 1]; orientation (H, W) radians
     [0, pi); strokes the ``core.strokes.Stroke`` records in painting order; analysis the maps it was built on;
-    statistics the figures of ``report.json``.
+    statistics the figures of ``report.json``; stroke_list the ``core.strokes.stroke_list.StrokeList`` of the
+    laid strokes when the painter was asked to record it, else None.
     """
 
     colour: np.ndarray
@@ -73,3 +74,4 @@ class Painting:
     analysis: Analysis
     params: Params
     statistics: Dict = field(default_factory=dict)
+    stroke_list: object = None

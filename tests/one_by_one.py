@@ -21,7 +21,7 @@ import pytest
 from core.methods import huang11
 from core.strokes.canvas import Canvas, composite, inverse_full
 from core.strokes.compositing import Footprints
-from core.strokes.rounds import improves, lay_round, plan_round, records, strokes_footprints
+from core.strokes.rounds import RoundPlan, improves, lay_round, plan_round, records, strokes_footprints
 
 
 def paint(image: np.ndarray, params):
@@ -32,9 +32,10 @@ def paint(image: np.ndarray, params):
 
 
 def paint_round(canvas: Canvas, sources, orientation: np.ndarray, anchors: np.ndarray, size: int, layer: int, tip,
-                draws: np.ndarray, params, ratios: np.ndarray = None) -> list:
+                draws: np.ndarray, params, ratios: np.ndarray = None, record=None) -> list:
     """``core.strokes.rounds.paint_round``, one stroke at a time: every stroke planned and judged alone on the
-    canvas as the round found it, then the kept ones laid alone in order; returns their records."""
+    canvas as the round found it, then the kept ones laid alone in order; returns their records (and hands
+    ``record`` their plan, joined)."""
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     plans = [plan_round(canvas, sources, orientation, anchors[i:i + 1], size, tip, draws[i:i + 1], params)
              for i in range(len(anchors))]
@@ -49,6 +50,8 @@ def paint_round(canvas: Canvas, sources, orientation: np.ndarray, anchors: np.nd
         else:
             lay_one(canvas, strokes_footprints(plan, size, tip, params, canvas.height.shape), 0,
                     params.height_mode, params.height_build)
+    if record is not None and plans:
+        record(RoundPlan.joined(plans))
     return [stroke for plan in plans for stroke in records(plan, size, layer)]
 
 

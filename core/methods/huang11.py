@@ -19,16 +19,19 @@ from ..strokes.layout import canvas_error, choose_anchors, hertzmann_anchors, pa
 from ..strokes.rounds import paint_round
 from ..strokes.streams import visit_uniforms
 from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources
+from ..strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeRecorder, recording
 from .statistics import painting_statistics
 from .styles import get_style
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-          mask: Optional[np.ndarray] = None) -> Painting:
+          mask: Optional[np.ndarray] = None, record_strokes: bool = False) -> Painting:
     """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke.
 
     progress(fraction, message) is called now and then; cancel() is polled
-    between rounds and raises Cancelled when it returns True.
+    between rounds and raises Cancelled when it returns True. record_strokes:
+    also hand back the laid strokes as a ``StrokeList`` (``Painting.stroke_list``),
+    which ``lay_strokes`` lays again to the same bytes.
     """
     params.validate()
     image = check_image(image)
@@ -41,14 +44,16 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
     tips = tip_cache(brush, analysis.sizes, params.transparency)
     sources = colour_sources(analysis.reference, analysis.sizes, params)
+    recorder = StrokeRecorder() if record_strokes else None
     layers_stage = stage.sub(0.15, 0.95 if params.detail_pass else 1.0)
     if params.layout == "hertzmann98":
-        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage)
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage,
+                                                      recorder)
     else:
-        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage)
+        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage, recorder)
     if params.detail_pass:
         details = paint_details(canvas, image, analysis, sources, params, len(per_layer),
-                                stage.sub(0.95, 1.0))
+                                stage.sub(0.95, 1.0), recorder)
         strokes += details
         per_layer.append(len(details))
     seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
@@ -58,11 +63,13 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     stage.report(1.0, f"Painted {len(strokes)} strokes")
     np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)   # Eq. 4 keeps [0, 1] up to float32 rounding
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
-                    strokes, analysis, params, statistics)
+                    strokes, analysis, params, statistics,
+                    None if recorder is None else recorder.stroke_list())
 
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
-                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage) -> List[Stroke]:
+                  sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage,
+                  recorder: Optional[StrokeRecorder] = None) -> List[Stroke]:
     """The detail pass: one dab of the smallest brush on each point highlight the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
@@ -72,6 +79,7 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
     layers (anchors at least 2 smallest + 1 px apart, so no dab paints
     another's anchor). Dabs are laid with the round brush, whatever the
     layers' brush: a flat brush's dab is a dash, and a star is a dot.
+    ``recorder`` (optional) keeps the dabs laid.
     """
     smallest = min(analysis.sizes)
     anchors = detail_anchors(image, canvas.colour,
@@ -82,13 +90,13 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
     tip = brush_tip(load_brush("round"), smallest, params.transparency)
     draws = visit_uniforms(params.seed, layer, np.arange(len(anchors)), 5)[:, 1:]
     strokes = paint_round(canvas, detail_sources(image), analysis.orientation, anchors, smallest, layer, tip, draws,
-                          dab)
+                          dab, record=recording(recorder, smallest, layer, ROUND_BRUSH))
     stage.check()
     return strokes
 
 
 def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                 params: Params, stage: Stage) -> tuple:
+                 params: Params, stage: Stage, recorder: Optional[StrokeRecorder] = None) -> tuple:
     """Run every layer over every grid, largest first, one round per stroke size (ALGORITHM §5, "Speed").
 
     Returns (strokes, strokes per layer); see ``paint_layer``.
@@ -100,7 +108,7 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
     per_layer: List[int] = []
     for layer in range(params.layers):
         laid = paint_layer(canvas, layer, grids, runs, analysis.orientation, tips, sources, params,
-                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)))
+                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)), recorder)
         strokes += laid
         per_layer.append(len(laid))
     return strokes, per_layer
@@ -116,7 +124,8 @@ def layer_progress(stage: Stage, layer: int, layers: int, runs: int, before: int
 
 
 def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orientation: np.ndarray, tips: dict,
-                sources: Dict[int, ColourSources], params: Params, report) -> List[Stroke]:
+                sources: Dict[int, ColourSources], params: Params, report,
+                recorder: Optional[StrokeRecorder] = None) -> List[Stroke]:
     """One layer over (N, 4) ``grids`` in painting order, one round per run (size, first, stop) of ``runs``.
 
     The grids of one size are a run (``painting_order``): their anchors are
@@ -126,7 +135,7 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
     is left to the next smaller brush: its anchor, with its stream, opens
     that size's run if it is still bare when the run begins (``still_bare``),
     and is judged again there. report(runs done, strokes laid) is called after
-    each run. Returns the layer's strokes.
+    each run; ``recorder`` (optional) keeps the strokes laid. Returns the layer's strokes.
     """
     draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
     strokes: List[Stroke] = []
@@ -141,7 +150,7 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
         spots = np.concatenate([np.ones(int(bare.sum()), bool), ~by_difference[chosen]])
         ratios = mend_ratios(~spots, layer, params.mend_ratio)
         laid = paint_round(canvas, sources[size], orientation, anchors, size, layer, tips[size], run_draws, params,
-                           ratios)
+                           ratios, record=recording(recorder, size, layer, PAINTING_BRUSH))
         left = spots & refused(anchors, laid) if ratios is not None else np.zeros(len(anchors), bool)
         waiting = anchors[left], run_draws[left]
         strokes += laid
@@ -177,7 +186,7 @@ def refused(anchors: np.ndarray, laid: List[Stroke]) -> np.ndarray:
 
 
 def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                             params: Params, stage: Stage) -> tuple:
+                             params: Params, stage: Stage, recorder: Optional[StrokeRecorder] = None) -> tuple:
     """The Fig. 8b ablation: the paper's strokes on Hertzmann 1998's layered layout.
 
     One layer per standard stroke size (largest first; params.layers is not
@@ -188,7 +197,8 @@ def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sou
     coverage is 0) exceeds the style's T, anchors a stroke at each such
     cell's max-error pixel, and lays those strokes in a random (seeded)
     order with the paper's brush, colours and relief against the paper's
-    bilateral reference and orientation field. Returns (strokes, strokes per layer).
+    bilateral reference and orientation field. ``recorder`` (optional) keeps the strokes laid. Returns
+    (strokes, strokes per layer).
     """
     style = get_style(params.style)
     reference = analysis.reference
@@ -201,7 +211,7 @@ def paint_layers_hertzmann98(canvas: Canvas, analysis: Analysis, tips: dict, sou
         order = np.random.default_rng([params.seed, layer]).permutation(len(anchors))
         draws = visit_uniforms(params.seed, layer, order, 5)[:, 1:]
         strokes += paint_round(canvas, sources[size], analysis.orientation, anchors[order], size, layer, tips[size],
-                               draws, params)
+                               draws, params, record=recording(recorder, size, layer, PAINTING_BRUSH))
         stage.check()
         stage.report((layer + 1) / len(sizes), f"Layer {layer + 1}/{len(sizes)}: {len(strokes)} strokes")
         per_layer.append(len(order))

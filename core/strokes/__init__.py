@@ -6,7 +6,8 @@ Brushes and their tips (``brush``), where anchors go (``layout``, and
 (``folding``, ``compositing``) and laying it on the ``canvas``, each
 stroke's random numbers (``streams``), solid strokes (``lines``: Hertzmann
 1998's and the "lines" renderer's). ``paint_round`` plans and lays a round
-of strokes and hands the methods their ``Stroke`` records.
+of strokes and hands the methods their ``Stroke`` records; ``stroke_list``
+keeps what laying the strokes again needs, and ``lay_strokes`` lays them.
 """
 
 from .brush import BrushTip, brush_tip, load_brush, tip_cache

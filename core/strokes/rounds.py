@@ -10,7 +10,7 @@ laying them one by one would.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, NamedTuple
+from typing import Callable, List, NamedTuple, Optional
 
 import numpy as np
 
@@ -45,6 +45,8 @@ class RoundPlan:
     angles: float64 (N,) radians, the orientation field at each anchor.
     ratios: float64 (N,) >= 0 or None: stroke i is laid only if it mends more than ratios[i] times the error
             it spoils (``improves``), 0 lays it unjudged; None when the round lays every stroke.
+    contact: float32 (N,) in [0, 1] or None: the factor on each stroke's contact (a fading stroke's, ALGORITHM
+             §9); None lays every stroke at full contact.
     """
 
     anchors: np.ndarray
@@ -53,17 +55,19 @@ class RoundPlan:
     paths: PlannedPaths
     angles: np.ndarray
     ratios: np.ndarray = None
+    contact: np.ndarray = None
 
     def subset(self, index) -> "RoundPlan":
         """The plan of some of the strokes, in order: ``index`` a slice or an ascending (K,) int array."""
         paths = self.paths
         return RoundPlan(self.anchors[index], self.colours[index], self.anchor_colours[index],
                          PlannedPaths(paths.samples[index], paths.first[index], paths.last[index], paths.per_segment),
-                         self.angles[index], None if self.ratios is None else self.ratios[index])
+                         self.angles[index], None if self.ratios is None else self.ratios[index],
+                         None if self.contact is None else self.contact[index])
 
     @staticmethod
     def joined(parts: list) -> "RoundPlan":
-        """The plan of several runs of strokes (unjudged), one run after another."""
+        """The plan of several runs of strokes (unjudged, at full contact), one run after another."""
         join = lambda arrays: np.concatenate(list(arrays))  # noqa: E731
         return RoundPlan(join(p.anchors for p in parts), join(p.colours for p in parts),
                          join(p.anchor_colours for p in parts),
@@ -100,15 +104,17 @@ def stamp_paths(paths: PlannedPaths, angles: np.ndarray, size: int, params: Para
 
 
 def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray, anchors: np.ndarray, size: int,
-                layer: int, tip: BrushTip, draws: np.ndarray, params: Params,
-                ratios: np.ndarray = None) -> List[Stroke]:
+                layer: int, tip: BrushTip, draws: np.ndarray, params: Params, ratios: np.ndarray = None,
+                record: Optional[Callable[[RoundPlan], None]] = None) -> List[Stroke]:
     """Plan and lay N strokes ``size`` px wide from (N, 2) int ``anchors`` (x, y); returns their records.
 
     draws: (N, 4) uniform numbers of each stroke's own stream (its colour
     perturbation, ``colour_jitter``). ratios: optional (N,) float >= 0,
     stroke i is laid only if it mends more than ratios[i] times the error
     it spoils (``improves``), judged alone on the canvas as the round found
-    it; 0 lays it unjudged (all are, by the 'lines' renderer).
+    it; 0 lays it unjudged (all are, by the 'lines' renderer). record:
+    optional, called with the plan of the strokes laid, in order, once they
+    are laid (what ``core.strokes.stroke_list`` keeps of them).
     """
     anchors = np.asarray(anchors, np.int64).reshape(-1, 2)
     if len(anchors) == 0:
@@ -117,10 +123,12 @@ def paint_round(canvas: Canvas, sources: ColourSources, orientation: np.ndarray,
     chunks = lay_chunks(plan.paths, tip, size)
     if ratios is not None and params.renderer != "lines" and np.any(ratios):
         plan.ratios = np.asarray(ratios, np.float64)
-        indices = judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference)
-        return records(plan.subset(indices), size, layer)
-    for first, stop in chunks:
-        lay_round(canvas, plan.subset(slice(first, stop)), size, tip, params)
+        plan = plan.subset(judge_and_lay(canvas, plan, chunks, size, tip, params, sources.reference))
+    else:
+        for first, stop in chunks:
+            lay_round(canvas, plan.subset(slice(first, stop)), size, tip, params)
+    if record is not None:
+        record(plan)
     return records(plan, size, layer)
 
 
@@ -229,14 +237,15 @@ def plan_strokes(canvas: Canvas, sources: ColourSources, orientation: np.ndarray
 
 
 def lay_round(canvas: Canvas, plan: RoundPlan, size: int, tip: BrushTip, params: Params) -> None:
-    """Lay a plan's strokes on ``canvas`` in order."""
+    """Lay a plan's strokes on ``canvas`` in order (a solid line's opacity is its ``plan.contact``)."""
     paths = plan.paths
     if params.renderer == "lines":
         every = max(1, int(size) // 4)
+        alphas = np.ones(len(paths.first)) if plan.contact is None else plan.contact.astype(np.float64)
         for i in range(len(paths.first)):
             curve = paths.samples[i, paths.first[i]:paths.last[i] + 1]
             line = curve[np.unique(np.append(np.arange(0, len(curve), every), len(curve) - 1))]
-            solid_stroke(canvas, line, 0.5 * size, plan.anchor_colours[i], 1.0, params.height_mode,
+            solid_stroke(canvas, line, 0.5 * size, plan.anchor_colours[i], float(alphas[i]), params.height_mode,
                          params.height_build)
         return
     canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
@@ -274,11 +283,15 @@ def in_runs(plan: RoundPlan, size: int, tip: BrushTip, work) -> list:
 
 
 def strokes_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together."""
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together; each stamp's
+    contact (``stamp_paths``) times its stroke's ``plan.contact`` when there is one."""
     stamps = stamp_paths(plan.paths, plan.angles, size, params)
+    contact = stamps.contact
+    if plan.contact is not None:
+        contact = contact * np.repeat(np.asarray(plan.contact, np.float32), np.diff(stamps.starts))
     rows = max(1.0, tip.length)
     return track_footprints(stamps.points, stamps.directions, stamps.starts, tip, plan.colours, shape,
-                            passes=max(1.0, MIN_ROWS / rows), contact=stamps.contact, stamp_relief=stamps.relief,
+                            passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=stamps.relief,
                             bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
 
 

@@ -1,0 +1,209 @@
+"""A painting's stroke list lays the painting again (ALGORITHM §9: each frame's maps are a function of its strokes).
+
+``huang11.paint(..., record_strokes=True)`` hands back the laid strokes as a
+``StrokeList``; laying it on a blank canvas with ``lay_strokes`` must give the
+painting's colour, height, opacity and coverage to the byte, over random small
+photos, stroke sizes, brushes, height modes, layouts, path rules, renderers
+and the detail pass. Laid in another order it gives another painting, so the
+equality is not vacuous. Subsets and joins keep the order; a stroke list moved
+by whole pixels lays the painting moved (the first property of carrying
+strokes from frame to frame); a stroke's contact factor fades it.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_rounds import photo
+
+from core.methods import huang11
+from core.params import Params
+from core.strokes.canvas import Canvas
+from core.strokes.path import catmull_rom
+from core.strokes.planning import samples_per_segment
+from core.strokes.rounds import strokes_footprints
+from core.strokes.stroke_list import ROUND_BRUSH, StrokeList, lay_strokes, stroke_tips
+
+MAPS = ("colour", "height", "opacity", "coverage")
+
+
+def laid(strokes: StrokeList, shape: tuple, params: Params) -> Canvas:
+    """The canvas of ``shape`` (H, W) with ``strokes`` laid on it, colour clipped to [0, 1] as a painting's is."""
+    canvas = Canvas.blank(shape, params.canvas_colour)
+    lay_strokes(canvas, strokes, stroke_tips(strokes, params), params)
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)
+    return canvas
+
+
+def same_maps(a, b) -> bool:
+    return all(getattr(a, name).tobytes() == getattr(b, name).tobytes() for name in MAPS)
+
+
+def same_lists(a: StrokeList, b: StrokeList) -> bool:
+    return all(np.array_equal(getattr(a, f.name), getattr(b, f.name), equal_nan=f.name == "control")
+               for f in dataclasses.fields(StrokeList))
+
+
+def recorded(image: np.ndarray, params: Params):
+    """The painting of ``image`` with its stroke list."""
+    painting = huang11.paint(image, params, record_strokes=True)
+    assert isinstance(painting.stroke_list, StrokeList)
+    return painting
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2 ** 32 - 1), h=st.integers(12, 56), w=st.integers(12, 56),
+       kind=st.sampled_from(["smooth", "noise", "blocks"]),
+       sizes=st.sampled_from([(64, 32, 16, 8, 4), (24, 6), (9, 5, 3), (40,)]),
+       brush=st.sampled_from(["flat", "round", "filbert"]),
+       height_mode=st.sampled_from(["over", "accumulate"]),
+       layout=st.sampled_from(["paper", "paper", "hertzmann98"]),
+       path_rule=st.sampled_from(["natural", "natural", "literal"]),
+       renderer=st.sampled_from(["bristles", "bristles", "bristles", "lines"]),
+       detail_pass=st.booleans(), layers=st.integers(1, 3))
+def test_laying_a_paintings_stroke_list_on_a_blank_canvas_gives_the_painting(seed, h, w, kind, sizes, brush,
+                                                                             height_mode, layout, path_rule,
+                                                                             renderer, detail_pass, layers):
+    image = photo(seed % 1000, h, w, kind)
+    params = Params(seed=seed, stroke_sizes=sizes, brush=brush, height_mode=height_mode, layout=layout,
+                    path_rule=path_rule, renderer=renderer, detail_pass=detail_pass, layers=layers,
+                    size_reference_megapixels=0.003)
+    painting = recorded(image, params)
+    strokes = painting.stroke_list
+    # one entry per stroke record, in the records' order
+    assert len(strokes) == len(painting.strokes)
+    assert strokes.layer.tolist() == [s.layer for s in painting.strokes]
+    assert strokes.size.tolist() == [s.size for s in painting.strokes]
+    assert [tuple(a) for a in strokes.anchor.astype(int).tolist()] == [s.anchor for s in painting.strokes]
+    assert strokes.anchor_colour.tobytes() == np.array([s.colour for s in painting.strokes], np.float32).tobytes()
+    assert (strokes.brush == ROUND_BRUSH).sum() == (painting.statistics["strokes_per_layer"][-1] if detail_pass else 0)
+    assert (strokes.contact == 1).all()
+    assert same_maps(laid(strokes, (h, w), params), painting)
+
+
+def test_recording_the_strokes_changes_nothing_the_painter_hands_back():
+    image = photo(7, 44, 52, "blocks")
+    params = Params(seed=3, stroke_sizes=(16, 8, 4), layers=2, detail_pass=True, size_reference_megapixels=0.0023)
+    plain, recording = huang11.paint(image, params), recorded(image, params)
+    assert plain.stroke_list is None
+    assert same_maps(plain, recording)
+    assert [s.to_dict() for s in plain.strokes] == [s.to_dict() for s in recording.strokes]
+    times = lambda statistics: {k: v for k, v in statistics.items() if "seconds" not in k}  # noqa: E731
+    assert times(plain.statistics) == times(recording.statistics)
+
+
+@pytest.fixture(scope="module")
+def painting():
+    """A painting of overlapping strokes of three sizes, two layers and the detail pass (dabs of the round brush
+    on six small highlights), with its stroke list."""
+    image = photo(5, 60, 72, "smooth")
+    for y, x in ((10, 12), (30, 40), (45, 20), (20, 60), (50, 55), (8, 35)):
+        image[y:y + 2, x:x + 2] = 1.0
+    params = Params(seed=1, stroke_sizes=(12, 6, 3), layers=2, detail_pass=True, brush="flat",
+                    size_reference_megapixels=0.0043)
+    return recorded(image, params)
+
+
+def test_the_same_strokes_laid_in_another_order_give_another_painting(painting):
+    strokes, params, shape = painting.stroke_list, painting.params, painting.height.shape
+    assert same_maps(laid(strokes, shape, params), painting)
+    backwards = laid(strokes.subset(np.arange(len(strokes))[::-1]), shape, params)
+    for name in MAPS:
+        assert getattr(backwards, name).tobytes() != getattr(painting, name).tobytes(), name
+    # two strokes that overlap swapped (the last such pair): the maps change, and only where both lie
+    alone = [laid(strokes.subset([i]), shape, params).coverage > 0 for i in range(len(strokes))]
+    i = max(i for i in range(len(strokes) - 1) if (alone[i] & alone[i + 1]).any())
+    swapped = laid(strokes.subset(np.r_[0:i, i + 1, i, i + 2:len(strokes)]), shape, params)
+    changed = np.any(swapped.colour != painting.colour, axis=-1)
+    for name in ("height", "opacity", "coverage"):
+        changed |= getattr(swapped, name) != getattr(painting, name)
+    assert changed.any() and not (changed & ~(alone[i] & alone[i + 1])).any()
+
+
+def test_subsets_and_joins_keep_the_order(painting):
+    strokes, params, shape = painting.stroke_list, painting.params, painting.height.shape
+    n = len(strokes)
+    assert (strokes.brush == ROUND_BRUSH).sum() == 6
+    assert len(set(strokes.control_count.tolist())) > 1                  # the dabs' one control point is padded
+    assert len(set(np.diff(strokes.bristle_starts).tolist())) > 1         # bristles of several brush tips
+    for cut in (0, 1, n // 3, n - 1, n):
+        assert same_lists(StrokeList.joined([strokes.subset(slice(0, cut)), strokes.subset(slice(cut, n))]), strokes)
+    picked = np.random.default_rng(0).random(n) < 0.5
+    assert same_lists(strokes.subset(picked), strokes.subset(np.flatnonzero(picked)))
+    assert same_lists(StrokeList.joined([strokes.subset(~picked)]), strokes.subset(np.flatnonzero(~picked)))
+    assert same_lists(StrokeList.joined([]), StrokeList.empty()) and len(StrokeList.empty()) == 0
+    # laying the two halves one after another is laying the whole
+    canvas = Canvas.blank(shape, params.canvas_colour)
+    tips = stroke_tips(strokes, params)
+    for part in (strokes.subset(slice(0, n // 2)), strokes.subset(slice(n // 2, n))):
+        lay_strokes(canvas, part, tips, params)
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)
+    assert same_maps(canvas, painting)
+
+
+def strokes_inside(strokes: StrokeList, tips: dict, shape: tuple) -> np.ndarray:
+    """(N,) bool: the strokes whose brush stays on an (H, W) canvas all along their kept curve."""
+    h, w = shape
+    inside = np.zeros(len(strokes), bool)
+    for i in range(len(strokes)):
+        tip = tips[int(strokes.brush[i]), int(strokes.size[i])]
+        reach = float(np.hypot(tip.along, tip.across).max()) + 2.0                 # the brush and its splat
+        control = strokes.control[i:i + 1, :int(strokes.control_count[i])]
+        curve = catmull_rom(control, samples_per_segment(int(strokes.size[i])))[0, strokes.first[i]:strokes.last[i] + 1]
+        inside[i] = (curve.min() >= reach and curve[:, 0].max() <= w - 1 - reach
+                     and curve[:, 1].max() <= h - 1 - reach)
+    return inside
+
+
+def test_strokes_moved_by_whole_pixels_lay_the_painting_moved(painting):
+    # the strokes that stay on the canvas, laid on it and moved onto a larger one. Stroke positions are rounded
+    # to float32 where they are splatted, so a moved stroke lays the same to about 1e-5, not to the byte.
+    strokes, params, shape = painting.stroke_list, painting.params, painting.height.shape
+    tips = stroke_tips(strokes, params)
+    inside = strokes.subset(strokes_inside(strokes, tips, shape))
+    assert len(inside) >= 20 and len(set(inside.size.tolist())) == 3
+    here = laid(inside, shape, params)
+    bare = Canvas.blank((1, 1), params.canvas_colour)
+    for dx, dy in ((5, 3), (0, 17), (64, 40)):
+        moved = dataclasses.replace(inside, anchor=inside.anchor + (dx, dy), control=inside.control + (dx, dy))
+        there = laid(moved, (shape[0] + dy, shape[1] + dx), params)
+        for name in MAPS:
+            np.testing.assert_allclose(getattr(there, name)[dy:, dx:], getattr(here, name), rtol=0, atol=5e-5,
+                                       err_msg=name)
+            canvas = getattr(bare, name)[0, 0]                           # the margin the strokes left is bare
+            assert (getattr(there, name)[:dy] == canvas).all() and (getattr(there, name)[:, :dx] == canvas).all()
+
+
+def test_a_strokes_contact_factor_fades_it(painting):
+    strokes, params, shape = painting.stroke_list, painting.params, painting.height.shape
+    # a factor of 1 given explicitly is multiplied in and changes no byte of any stroke's footprints
+    tips = stroke_tips(strokes, params)
+    for first, stop in strokes.runs():
+        plan = strokes.round_plan(first, stop)
+        assert plan.contact is None
+        size, tip = int(strokes.size[first]), tips[int(strokes.brush[first]), int(strokes.size[first])]
+        full = strokes_footprints(plan, size, tip, params, shape)
+        plan.contact = np.ones(stop - first, np.float32)
+        ones = strokes_footprints(plan, size, tip, params, shape)
+        for field in dataclasses.fields(full):
+            assert getattr(full, field.name).tobytes() == getattr(ones, field.name).tobytes(), field.name
+    # one stroke alone at contact 0, 1/3, 2/3 and 1: nothing, then more and more of it (a solid line's opacity)
+    one = strokes.subset([0])
+    for renderer in ("bristles", "lines"):
+        drawn = dataclasses.replace(params, renderer=renderer)
+        faded = [laid(dataclasses.replace(one, contact=np.array([k / 3], np.float32)), shape, drawn)
+                 for k in range(4)]
+        assert same_maps(faded[0], Canvas.blank(shape, params.canvas_colour))
+        assert same_maps(faded[3], laid(one, shape, drawn))
+        for name in ("opacity", "coverage", "height"):
+            totals = [float(getattr(canvas, name).sum()) for canvas in faded]
+            assert totals[0] == 0 < totals[1] < totals[2] < totals[3], (renderer, name)
+    # the whole painting with the last layer's strokes half faded differs only where they lie
+    last = strokes.layer == strokes.layer.max()
+    half = laid(dataclasses.replace(strokes, contact=np.where(last, 0.5, 1.0).astype(np.float32)), shape, params)
+    assert not same_maps(half, painting)
+    assert same_maps(laid(strokes.subset(~last), shape, params),
+                     laid(dataclasses.replace(strokes, contact=np.where(last, 0.0, 1.0).astype(np.float32)), shape,
+                          params))
