@@ -94,12 +94,15 @@ def build_scene(frames: int) -> bpy.types.Scene:
     return scene
 
 
-def set_output(scene: bpy.types.Scene, args: argparse.Namespace) -> None:
-    """Cycles on the CPU, the Vector pass on and motion blur off, frames as multilayer EXR into args.output."""
+def set_output(scene: bpy.types.Scene, width: int, height: int, samples: int, folder: Path,
+               denoise: bool = True) -> None:
+    """Cycles on the CPU at ``samples`` per pixel, the Vector pass on and motion blur off, frames of ``width`` x
+    ``height`` px written as multilayer EXR to ``folder``/frame_####.exr."""
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
-    scene.cycles.samples = args.samples
-    scene.render.resolution_x, scene.render.resolution_y = args.width, args.height
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = denoise
+    scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
     scene.render.use_motion_blur = False                  # Cycles writes the Vector pass only without it
     scene.view_settings.view_transform = "Standard"
@@ -110,14 +113,14 @@ def set_output(scene: bpy.types.Scene, args: argparse.Namespace) -> None:
     settings.file_format = "OPEN_EXR_MULTILAYER"
     settings.exr_codec = "ZIP"
     settings.color_depth = "32"
-    scene.render.filepath = str(args.output.resolve() / "frame_####")
+    scene.render.filepath = str(Path(folder).resolve() / "frame_####")
 
 
 def main(argv: list) -> int:
     args = arguments(argv)
     args.output.mkdir(parents=True, exist_ok=True)
     scene = build_scene(args.frames)
-    set_output(scene, args)
+    set_output(scene, args.width, args.height, args.samples, args.output)
     bpy.ops.render.render(animation=True)
     written = sorted(args.output.glob("frame_*.exr"))
     print(f"sequence_scene: {len(written)} frames in {args.output}")

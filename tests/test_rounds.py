@@ -49,15 +49,20 @@ def same_painting(a, b) -> None:
     assert a.statistics["strokes_per_layer"] == b.statistics["strokes_per_layer"]
 
 
+PAINTINGS = dict(seed=st.integers(0, 2 ** 32 - 1), h=st.integers(12, 56), w=st.integers(12, 56),
+                 kind=st.sampled_from(["smooth", "noise", "blocks"]),
+                 sizes=st.sampled_from([(64, 32, 16, 8, 4), (24, 6), (9, 5, 3), (40,)]),
+                 brush=st.sampled_from(["flat", "round", "filbert"]),
+                 height_mode=st.sampled_from(["over", "accumulate"]),
+                 layout=st.sampled_from(["paper", "paper", "hertzmann98"]),
+                 path_rule=st.sampled_from(["natural", "natural", "literal"]),
+                 detail_pass=st.booleans(), layers=st.integers(1, 3))
+"""Hypothesis strategies of small random paintings: a ``photo`` (seed, h, w, kind) and the settings that change
+how strokes are planned and laid."""
+
+
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(seed=st.integers(0, 2 ** 32 - 1), h=st.integers(12, 56), w=st.integers(12, 56),
-       kind=st.sampled_from(["smooth", "noise", "blocks"]),
-       sizes=st.sampled_from([(64, 32, 16, 8, 4), (24, 6), (9, 5, 3), (40,)]),
-       brush=st.sampled_from(["flat", "round", "filbert"]),
-       height_mode=st.sampled_from(["over", "accumulate"]),
-       layout=st.sampled_from(["paper", "paper", "hertzmann98"]),
-       path_rule=st.sampled_from(["natural", "natural", "literal"]),
-       detail_pass=st.booleans(), layers=st.integers(1, 3))
+@given(**PAINTINGS)
 def test_the_engine_paints_the_bytes_of_one_stroke_at_a_time(seed, h, w, kind, sizes, brush, height_mode, layout,
                                                              path_rule, detail_pass, layers):
     image = photo(seed % 1000, h, w, kind)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_rounds import photo
+from test_rounds import PAINTINGS, photo
 
 from core.methods import huang11
 from core.params import Params
@@ -54,15 +54,7 @@ def recorded(image: np.ndarray, params: Params):
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(seed=st.integers(0, 2 ** 32 - 1), h=st.integers(12, 56), w=st.integers(12, 56),
-       kind=st.sampled_from(["smooth", "noise", "blocks"]),
-       sizes=st.sampled_from([(64, 32, 16, 8, 4), (24, 6), (9, 5, 3), (40,)]),
-       brush=st.sampled_from(["flat", "round", "filbert"]),
-       height_mode=st.sampled_from(["over", "accumulate"]),
-       layout=st.sampled_from(["paper", "paper", "hertzmann98"]),
-       path_rule=st.sampled_from(["natural", "natural", "literal"]),
-       renderer=st.sampled_from(["bristles", "bristles", "bristles", "lines"]),
-       detail_pass=st.booleans(), layers=st.integers(1, 3))
+@given(**PAINTINGS, renderer=st.sampled_from(["bristles", "bristles", "bristles", "lines"]))
 def test_laying_a_paintings_stroke_list_on_a_blank_canvas_gives_the_painting(seed, h, w, kind, sizes, brush,
                                                                              height_mode, layout, path_rule,
                                                                              renderer, detail_pass, layers):

@@ -21,6 +21,9 @@ from pathlib import Path
 
 import bpy
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "sample_scenes"))
+from sequence_scene import set_output  # noqa: E402  (the shot's render settings, written once)
+
 ORTHO_SCALE = 4.8  # world units across the image's width
 SAMPLES = 16
 
@@ -43,7 +46,7 @@ def plane_material() -> bpy.types.Material:
 
 
 def build_scene(width: int, height: int, frames: int, right_px: float, down_px: float) -> bpy.types.Scene:
-    """The plane, the camera and its motion; Cycles, Vector pass and multilayer EXR output."""
+    """The plane, the camera and its motion over frames 0 to FRAMES + 1."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_plane_add(size=40.0)
@@ -59,20 +62,6 @@ def build_scene(width: int, height: int, frames: int, right_px: float, down_px: 
         camera.location = (frame * right_px * pixel, -frame * down_px * pixel, 10.0)
         camera.keyframe_insert("location", frame=frame)
     scene.frame_start, scene.frame_end = 1, frames
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = SAMPLES
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x, scene.render.resolution_y = width, height
-    scene.render.resolution_percentage = 100
-    scene.render.use_motion_blur = False  # Cycles writes the Vector pass only without it
-    scene.view_settings.view_transform = "Standard"
-    bpy.context.view_layer.use_pass_vector = True
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):  # Blender 5.x
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
     return scene
 
 
@@ -81,7 +70,7 @@ def main(argv: list) -> int:
     width, height, frames = (int(v) for v in argv[2:5])
     right_px, down_px = (float(v) for v in argv[5:7])
     scene = build_scene(width, height, frames, right_px, down_px)
-    scene.render.filepath = str(output.resolve() / "frame_####")
+    set_output(scene, width, height, SAMPLES, output, denoise=False)
     bpy.ops.render.render(animation=True)
     return 0
 
