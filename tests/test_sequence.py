@@ -23,7 +23,7 @@ import pytest
 from core.files.frames import find_frames
 from core.files.reading import read_exr, read_image
 from core.files.writing import write_png
-from core.motion import visible_in_both
+from core.motion import comes_back, visible_in_both
 from core.motion.warp import bilinear, pixel_positions
 from core.params import Params, SequenceSettings
 from core.progress import Stage
@@ -50,7 +50,7 @@ def uniform_motion(shape: tuple, step: tuple) -> FrameMotion:
     forward = np.broadcast_to(np.float32(step), (h, w, 2)).copy()
     positions = pixel_positions(h, w)
     seen = lambda motion: np.all((positions + motion >= 0) & (positions + motion <= [w - 1, h - 1]), axis=-1)  # noqa: E731
-    return FrameMotion(forward, -forward, seen(forward), seen(-forward))
+    return FrameMotion(forward, -forward, seen(forward), seen(forward), seen(-forward))
 
 
 def test_a_translated_photo_carries_its_strokes_and_is_born_on_only_where_new_content_enters():
@@ -110,7 +110,8 @@ def square_motion(shape: tuple, left: int, step: int, size: int = 36) -> FrameMo
     forward[on(left), 0] = step
     backward = np.zeros((h, w, 2), np.float32)
     backward[on(left + step), 0] = -step
-    return FrameMotion(forward, backward, visible_in_both(forward, backward), visible_in_both(backward, forward))
+    return FrameMotion(forward, backward, visible_in_both(forward, backward), comes_back(forward, backward),
+                       comes_back(backward, forward))
 
 
 def test_an_object_entering_the_frame_is_born_on_only_where_it_and_the_background_it_uncovers_are():

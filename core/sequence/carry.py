@@ -3,10 +3,11 @@
 Every control point and the anchor move by the forward motion at their
 position (bilinear); the curve is re-sampled from the moved control points
 when the list is laid. A stroke dies at once when its anchor is not visible in
-both frames (occluded, or it left the canvas). It starts to fade out, still
+both frames (occluded, or it left the canvas), or more than a quarter of its
+control points are hidden. It starts to fade out, still
 moving, when its control polygon's length has changed by more than
-``STRETCH`` either way since its birth, when a segment of it turned further
-than T_o (the surface under it folded), when the next frame's partition asks
+``STRETCH`` either way since its birth, when it bends at a control point
+by more than T_o otherwise than before (the surface under it folded), when the next frame's partition asks
 for a size two or more steps away at its anchor, or when a stroke of its size
 and layer lies less than half a width from it earlier in the order (crowding).
 """
@@ -26,6 +27,9 @@ from ..strokes.smoothing import SmoothedImage
 from ..strokes.stroke_list import PAINTING_BRUSH
 from .living import LivingStrokes, polygon_lengths
 
+HIDDEN_SHARE = 0.25
+"""A stroke dies at once when more than this share of its control points is hidden in the next frame."""
+
 STRETCH = 1.5
 """A stroke dies when its control polygon grows or shrinks by more than this factor since its birth."""
 
@@ -36,7 +40,7 @@ CLOSER = 0.01
 """px: two strokes crowd each other only when they came closer by more than this (moved together, they did not)."""
 
 SHORTEST_SEGMENT = 0.5
-"""px: control polygon segments shorter than this have no direction to turn."""
+"""px: control polygon segments shorter than this have no direction to turn from."""
 
 
 class Carried(NamedTuple):
@@ -59,8 +63,8 @@ def carry(living: LivingStrokes, forward: np.ndarray, visible: np.ndarray, size_
     h, w = visible.shape
     rows, cols = nearest_pixels((h, w), strokes.anchor[:, 0], strokes.anchor[:, 1])
     anchor = strokes.anchor + bilinear(forward, strokes.anchor)
-    kept = visible[rows, cols] & inside_frame(anchor, h, w)
     valid = np.arange(strokes.control.shape[1])[None, :] < strokes.control_count[:, None]
+    kept = visible[rows, cols] & inside_frame(anchor, h, w) & ~hidden(strokes.control, valid, visible)
     control = np.where(valid[..., None], strokes.control + bilinear(forward, strokes.control), np.nan)
     moved = replace(strokes, anchor=anchor, control=control)
     dies = (stretched(polygon_lengths(control, strokes.control_count), living.birth_length)
@@ -75,6 +79,18 @@ def carry(living: LivingStrokes, forward: np.ndarray, visible: np.ndarray, size_
     return Carried(stepped.subset(left).with_contact(), int(np.count_nonzero(~kept)), int(np.count_nonzero(~left)))
 
 
+def hidden(control: np.ndarray, valid: np.ndarray, visible: np.ndarray) -> np.ndarray:
+    """(N,) bool: more than HIDDEN_SHARE of a stroke's control points (N, P, 2) px, ``valid`` (N, P), lie on pixels
+    of frame t that are not ``visible`` (H, W) in frame t+1 (nearest pixel; points off the canvas are not counted):
+    an object that moves over a stroke hides it, though its anchor be left in sight."""
+    h, w = visible.shape
+    x, y = np.where(valid, control[..., 0], -1.0), np.where(valid, control[..., 1], -1.0)
+    on_canvas = valid & (x > -0.5) & (x < w - 0.5) & (y > -0.5) & (y < h - 0.5)
+    rows, cols = nearest_pixels((h, w), x, y)
+    covered = np.count_nonzero(on_canvas & ~visible[rows, cols], axis=1)
+    return covered > HIDDEN_SHARE * np.maximum(np.count_nonzero(on_canvas, axis=1), 1)
+
+
 def stretched(length: np.ndarray, birth_length: np.ndarray) -> np.ndarray:
     """(N,) bool: a control polygon of ``length`` (N,) px grew or shrank by more than STRETCH since its
     ``birth_length`` (N,) px (a stroke of one control point never does)."""
@@ -84,18 +100,30 @@ def stretched(length: np.ndarray, birth_length: np.ndarray) -> np.ndarray:
 
 
 def folded(before: np.ndarray, after: np.ndarray, valid: np.ndarray, threshold: float) -> np.ndarray:
-    """(N,) bool: a segment of a control polygon turned further than ``threshold`` radians from ``before``
-    (N, P, 2) to ``after`` (N, P, 2) px; ``valid`` (N, P) marks each polygon's points. Segments shorter than
-    SHORTEST_SEGMENT on either frame have no direction and are not judged."""
-    if before.shape[1] < 2:
+    """(N,) bool: a control polygon bends differently: the turn at one of its control points (the angle between
+    the segments on either side) changed by more than ``threshold`` radians from ``before`` (N, P, 2) to ``after``
+    (N, P, 2) px; ``valid`` (N, P) marks each polygon's points. A motion that moves, turns or scales the surface
+    as a whole changes no turn (a rolling ball's strokes roll with it); a surface that folds or shears under the
+    stroke does. Turns next to a segment shorter than SHORTEST_SEGMENT on either frame are not judged."""
+    if before.shape[1] < 3:
         return np.zeros(len(before), bool)
-    step_before, step_after = np.diff(before, axis=1), np.diff(after, axis=1)
-    judged = valid[:, 1:] & (np.hypot(*np.moveaxis(step_before, 2, 0)) >= SHORTEST_SEGMENT) \
-        & (np.hypot(*np.moveaxis(step_after, 2, 0)) >= SHORTEST_SEGMENT)
+    turn_before, judged_before = turns(before, valid)
+    turn_after, judged_after = turns(after, valid)
+    change = np.abs(np.angle(np.exp(1j * (turn_after - turn_before))))
+    return np.any(judged_before & judged_after & (change > threshold), axis=1)
+
+
+def turns(points: np.ndarray, valid: np.ndarray) -> tuple:
+    """The turn at each interior control point of N polygons ``points`` (N, P, 2) px, ``valid`` (N, P): (turn
+    (N, P - 2) radians in (-pi, pi], judged (N, P - 2) bool: both segments valid and at least SHORTEST_SEGMENT
+    long)."""
+    steps = np.diff(points, axis=1)
     with np.errstate(invalid="ignore"):
-        turn = np.abs(np.angle(np.exp(1j * (np.arctan2(step_after[..., 1], step_after[..., 0])
-                                             - np.arctan2(step_before[..., 1], step_before[..., 0])))))
-    return np.any(judged & (turn > threshold), axis=1)
+        direction = np.arctan2(steps[..., 1], steps[..., 0])
+        long_enough = np.hypot(steps[..., 0], steps[..., 1]) >= SHORTEST_SEGMENT
+    turn = np.angle(np.exp(1j * np.nan_to_num(direction[:, 1:] - direction[:, :-1])))
+    judged = valid[:, 2:] & long_enough[:, 1:] & long_enough[:, :-1]
+    return turn, judged
 
 
 def resized(anchor: np.ndarray, size: np.ndarray, brush: np.ndarray, size_map: np.ndarray,

@@ -33,12 +33,18 @@ from .living import LivingStrokes
 
 
 class FrameMotion(NamedTuple):
-    """The motion between frames t and t+1 (``core.motion``)."""
+    """The motion between frames t and t+1 (``core.motion``).
+
+    ``visible`` is ALGORITHM §9's visibility, which the measures use. The strokes' life uses the round trip
+    alone (``kept``, ``seen_before``): a flow's motion boundaries on texture (grass, foliage) are speckle over a
+    tenth of the frame, not occlusions, and the tearing a true boundary means is the stretch and fold tests' work.
+    """
 
     forward: np.ndarray         # float32 (H, W, 2) px, frame t's pixels to frame t+1
     backward: np.ndarray        # float32 (H, W, 2) px, frame t+1's pixels to frame t
-    visible: np.ndarray         # bool (H, W), frame t's pixels visible in both frames
-    seen_before: np.ndarray     # bool (H, W), frame t+1's pixels visible in both frames
+    visible: np.ndarray         # bool (H, W), frame t's pixels visible in both frames (``visible_in_both``)
+    kept: np.ndarray            # bool (H, W), frame t's pixels that land in frame t+1 and come back by w_b
+    seen_before: np.ndarray     # bool (H, W), frame t+1's pixels that land in frame t and come back by w_f
 
 
 class PaintedFrame(NamedTuple):
@@ -47,7 +53,8 @@ class PaintedFrame(NamedTuple):
     living: LivingStrokes       # its strokes in laying order
     canvas: Canvas              # the frame as shown (colour clipped to [0, 1])
     orientation: np.ndarray     # float32 (H, W) radians [0, pi), the frame's orientation field (Eq. 3)
-    error: np.ndarray           # float32 (H, W) the judging canvas's distance from the reference (``colour_distance``)
+    error: np.ndarray           # float32 (H, W) the canvas's distance from the reference (``colour_distance``)
+                                #   where its strokes were laid, carried with the motion since
     opacity: np.ndarray         # float32 (H, W) [0, 1] the judging canvas's opacity
     next_ident: int             # the identity the next stroke born gets
     born: int                   # strokes born on this frame
@@ -70,7 +77,7 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     analysis = analyze(image, params, cancel=stage.cancel)
     sources = colour_sources(analysis.reference, analysis.sizes, params)
     shape = image.shape[:2]
-    carried = carry(previous.living, motion.forward, motion.visible,
+    carried = carry(previous.living, motion.forward, motion.kept,
                     size_map(analysis.grids, analysis.grid_sizes, shape), analysis.sizes,
                     params.orientation_threshold)
     living = recoloured(carried.living, {s: sources[s].anchor for s in analysis.sizes}, detail_sources(image).anchor)
@@ -78,7 +85,10 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     tips = frame_tips(params, analysis.sizes)
     judging = Canvas.blank(shape, params.canvas_colour)
     lay_strokes(judging, living.settled().strokes, tips, params)
-    eligible = birth_places(judging, analysis.reference, previous, motion, params)
+    came_from = pixel_positions(*shape) + motion.backward
+    laid_error = bilinear(previous.error, came_from)
+    eligible = birth_places(judging, analysis.reference, laid_error, bilinear(previous.opacity, came_from),
+                            motion.seen_before, params)
     recorder = StrokeRecorder()
     births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
     paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
@@ -89,28 +99,26 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
     np.clip(judging.colour, 0.0, 1.0, out=judging.colour)
-    error = colour_distance(judging.colour, analysis.reference)
+    error = np.where(eligible, colour_distance(judging.colour, analysis.reference), laid_error)
     shown = judging if frame.at_full_contact() else laid(frame, tips, params, shape)
     return PaintedFrame(frame, shown, analysis.orientation, error, judging.opacity,
                         previous.next_ident + len(born), len(born), carried.occluded + carried.faded)
 
 
-def birth_places(judging: Canvas, reference: np.ndarray, previous: PaintedFrame, motion: FrameMotion,
-                 params: Params) -> np.ndarray:
-    """(H, W) bool: where frame t+1's grids may get new strokes, the carried strokes laid on ``judging``: pixels
-    not seen in frame t (disoccluded); bare (opacity below T_c) where frame t's was not and had more than
-    BARED opacity more; or whose canvas colour is more than T_d further from the ``reference`` (H, W, 3) than frame
-    t's was. Frame t's figures (``previous``) are taken where each pixel came from, along the backward motion
-    (bilinear). Where the carried painting is as bare or as wrong as frame t's was, the still painter left it so:
-    nothing is born."""
-    h, w = reference.shape[:2]
-    came_from = pixel_positions(h, w) + motion.backward
-    opacity_before = bilinear(previous.opacity, came_from)
+def birth_places(judging: Canvas, reference: np.ndarray, laid_error: np.ndarray, opacity_before: np.ndarray,
+                 seen_before: np.ndarray, params: Params) -> np.ndarray:
+    """(H, W) bool: where frame t+1's grids may get new strokes, the carried strokes laid on ``judging``.
+
+    Pixels not ``seen_before`` (disoccluded); bare (opacity below T_c) where frame t's ``opacity_before`` was not and
+    was more than BARED higher; or whose canvas colour is more than T_d further from the ``reference`` (H, W, 3)
+    than it was where its strokes were laid (``laid_error``, carried with the motion, so a slow drift is caught
+    as surely as a jump). Frame t's maps are taken where each pixel came from. Where the carried painting is as bare
+    or as wrong as when it was laid, the still painter left it so: nothing is born.
+    """
     bared = ((judging.opacity < params.coverage_threshold) & (opacity_before >= params.coverage_threshold)
              & (opacity_before - judging.opacity > BARED))
     error = colour_distance(judging.colour, reference)
-    return (~motion.seen_before | bared
-            | (error > bilinear(previous.error, came_from) + np.float32(params.difference_threshold)))
+    return ~seen_before | bared | (error > laid_error + np.float32(params.difference_threshold))
 
 
 BARED = 0.25

@@ -35,7 +35,7 @@ from ..files.lives import LIVES_FILE, append_frame
 from ..files.staging import output_folder
 from ..files.writing import write_json
 from ..measures.metrics import psnr
-from ..motion import motion_pair, optical_flow, still_pixels, stillness, visible_in_both, warping_error
+from ..motion import comes_back, motion_pair, optical_flow, still_pixels, stillness, visible_in_both, warping_error
 from ..params import Params, SequenceSettings, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
@@ -224,7 +224,8 @@ def frame_motion(image: np.ndarray, next_image: np.ndarray, vectors: Optional[np
         forward, backward = motion_pair(vectors, next_vectors)
     else:
         forward, backward = optical_flow(image, next_image), optical_flow(next_image, image)
-    return FrameMotion(forward, backward, visible_in_both(forward, backward), visible_in_both(backward, forward))
+    return FrameMotion(forward, backward, visible_in_both(forward, backward), comes_back(forward, backward),
+                       comes_back(backward, forward))
 
 
 def pair_measures(image: np.ndarray, next_image: np.ndarray, shown, next_shown, motion: FrameMotion) -> dict:
