@@ -36,6 +36,7 @@ from ..files.staging import output_folder
 from ..files.writing import write_json
 from ..measures.metrics import psnr
 from ..motion import comes_back, motion_pair, optical_flow, still_pixels, stillness, visible_in_both, warping_error
+from ..motion.optical_flow import SEQUENCE_MEGAPIXELS
 from ..params import Params, SequenceSettings, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
@@ -223,7 +224,8 @@ def frame_motion(image: np.ndarray, next_image: np.ndarray, vectors: Optional[np
     if vectors is not None:
         forward, backward = motion_pair(vectors, next_vectors)
     else:
-        forward, backward = optical_flow(image, next_image), optical_flow(next_image, image)
+        forward = optical_flow(image, next_image, SEQUENCE_MEGAPIXELS)
+        backward = optical_flow(next_image, image, SEQUENCE_MEGAPIXELS)
     return FrameMotion(forward, backward, visible_in_both(forward, backward), comes_back(forward, backward),
                        comes_back(backward, forward))
 
