@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from core.errors import Cancelled
 from core.files.frames import find_frames
 from core.files.reading import read_exr, read_image
 from core.files.writing import write_png
@@ -250,3 +251,23 @@ def test_carried_strokes_keep_their_texture_and_follow_the_light():
         offsets_before = old[inside] - painted.anchor_colour[j]
         offsets_after = new[inside] - second.living.strokes.anchor_colour[i]
         assert np.allclose(offsets_before, offsets_after, atol=1e-5)
+
+
+def test_a_cancelled_sequence_keeps_its_complete_frames_and_goes_on_to_the_same_bytes(tmp_path):
+    write_moving_frames(tmp_path / "in", 4, shape=(64, 80))
+    frames = find_frames([str(tmp_path / "in")])
+    paint_sequence(frames, tmp_path / "whole", Params(seed=4))
+    polls = []
+
+    def cancel() -> bool:
+        polls.append(len(list((tmp_path / "part").glob("painting_*.png"))))
+        return polls[-1] >= 2
+
+    with pytest.raises(Cancelled) as caught:
+        paint_sequence(frames, tmp_path / "part", Params(seed=4), cancel=cancel)
+    assert str(caught.value) == (f"The run was cancelled; the frames in {tmp_path / 'part'} are complete, and "
+                                 f"painting the sequence again goes on after the last of them.")
+    assert sorted(p.name for p in (tmp_path / "part").glob("painting_*.png")) == ["painting_0001.png",
+                                                                                 "painting_0002.png"]
+    paint_sequence(frames, tmp_path / "part", Params(seed=4))
+    assert files_of(tmp_path / "part") == files_of(tmp_path / "whole")

@@ -27,7 +27,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..errors import OutputError, ParameterError
+from ..errors import Cancelled, OutputError, ParameterError
 from ..files import reading
 from ..files.export import file_digests, map_attributes, map_tasks, run_all, write_normal_map
 from ..files.frames import Frames, carry_vector_passes, read_vector_pass
@@ -98,7 +98,11 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
                            + [REPORT_FILE, STATE_FILE])
         done = len(report["per_frame"])
         if done < len(frames.paths):
-            run.paint_from(done, report, folder, progress, cancel)
+            try:
+                run.paint_from(done, report, folder, progress, cancel)
+            except Cancelled:
+                raise Cancelled(f"The run was cancelled; the frames in {output_dir} are complete, and painting the "
+                                f"sequence again goes on after the last of them.") from None
     report["output_dir"] = str(Path(output_dir).resolve())
     return report
 
@@ -163,18 +167,17 @@ class Run:
             seconds["reading"] = time.perf_counter() - clock
             stage.report(0.0, "motion" if index else "painting")
             if index == 0:
-                clock = time.perf_counter()
                 painted = first_frame(next_image, self.params, self.settings.fade_frames, stage)
-                seconds["painting"] = time.perf_counter() - clock
                 measures = {}
             else:
                 clock = time.perf_counter()
                 motion = frame_motion(image, next_image, vectors, next_vectors)
                 seconds["motion"] = time.perf_counter() - clock
-                clock = time.perf_counter()
                 painted = next_frame(previous, index, next_image, motion, self.params, stage)
-                seconds["painting"] = time.perf_counter() - clock
+                clock = time.perf_counter()
                 measures = pair_measures(image, next_image, previous.canvas, painted.canvas, motion)
+                seconds["measures"] = time.perf_counter() - clock
+            seconds.update(painted.seconds)
             self.commit(folder, index, painted, next_image, measures, seconds, report)
             previous, image, vectors = painted, next_image, next_vectors
 
