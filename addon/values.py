@@ -186,3 +186,36 @@ def next_painting_folder(parent, image_path, digits=3):
         if not os.path.exists(folder):
             return folder
         counter += 1
+
+
+# --- painted sequences (addon/scene/animated.py) --------------------------------
+
+SEQUENCE_REPORT = "report.json"
+
+
+def sequence_frames(folder):
+    """The frame numbers painted in ``folder`` when it holds a painted sequence, else None.
+
+    A painted sequence's report.json (``python -m core sequence``) has a
+    "sequence" key and lists its committed frames under "frames", in order
+    and running up by 1. None for a folder without report.json, with one
+    that cannot be read, or with a still painting's report.
+    """
+    import json
+    import os
+
+    try:
+        with open(os.path.join(folder, SEQUENCE_REPORT), encoding="utf-8") as file:
+            report = json.load(file)
+    except (OSError, ValueError):
+        return None
+    if not isinstance(report, dict) or "sequence" not in report or not isinstance(report.get("frames"), list):
+        return None
+    return [int(number) for number in report["frames"]]
+
+
+def sequence_map_name(map_name, number):
+    """The file of frame ``number`` of the map ``map_name`` in a painted sequence: ``color.exr``, 16 ->
+    ``color_0016.exr`` (the frame number zero-padded to 4 digits, more when it needs them)."""
+    stem, dot, suffix = map_name.rpartition(".")
+    return "{}_{:04d}{}{}".format(stem, int(number), dot, suffix)

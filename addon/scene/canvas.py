@@ -218,9 +218,21 @@ def build_canvas(context, folder, width_cm, thickness_mm, method):
     plane shaded by normal.exr, no displacement). Raises CanvasError
     (before changing anything in the scene) when a map is missing or unreadable.
     """
-    scene = context.scene
     normal_map = method == "NORMAL_MAP"
     images = load_maps(folder, values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ()))
+    return canvas_from_images(context, folder, images, width_cm, thickness_mm, method)
+
+
+def canvas_from_images(context, folder, images, width_cm, thickness_mm, method):
+    """Create or update the scene's canvas of painted ``folder`` showing ``images``; return the object.
+
+    images: {role: image} as ``maps.load_images`` returns them (the normal
+    map's among them for 'NORMAL_MAP'); the other arguments as for
+    :func:`build_canvas`. The canvas of the scene built from ``folder``
+    already is rebuilt in place.
+    """
+    scene = context.scene
+    normal_map = method == "NORMAL_MAP"
     map_w, map_h = images[values.COLOR_MAP].size
     width, height = values.canvas_size(map_w, map_h, width_cm)
     thickness = thickness_mm / 1000.0

@@ -53,6 +53,17 @@ def load_maps(folder, names=values.CANVAS_MAPS):
             core.check_maps(folder, (values.HEIGHT_MAP, values.NORMAL_MAP))
     except core.PaintReliefError as error:
         raise CanvasError(str(error)) from None
+    return load_images(paths)
+
+
+def load_images(paths):
+    """Load (or reload) checked map files as images; return {key: image} for ``paths`` ({key: file path}).
+
+    A key is the map's role, the still painting's file name (``values.COLOR_MAP``, ``HEIGHT_MAP``,
+    ``OPACITY_MAP``, ``NORMAL_MAP``): the colour map is loaded as scene-linear, the others as data. A new image
+    is named "Paint Relief " and its file's name. Raises CanvasError naming the first file Blender cannot open
+    or whose size differs from the colour map's; images this call added are removed again then.
+    """
     before = set(bpy.data.images)
     images = {}
     try:
@@ -62,7 +73,7 @@ def load_maps(folder, names=values.CANVAS_MAPS):
             except RuntimeError as error:
                 raise CanvasError("Painted map {} cannot be read: {}.".format(path, str(error).strip().rstrip("."))) from None
             if image not in before:
-                image.name = "Paint Relief " + name
+                image.name = "Paint Relief " + os.path.basename(path)
             else:
                 image.reload()
             images[name] = image
@@ -72,7 +83,8 @@ def load_maps(folder, names=values.CANVAS_MAPS):
         for name, image in images.items():
             if tuple(image.size) != size:
                 raise CanvasError("Painted map {} is {} x {} px but {} is {} x {} px.".format(
-                    paths[name], image.size[0], image.size[1], values.COLOR_MAP, size[0], size[1]))
+                    paths[name], image.size[0], image.size[1], os.path.basename(paths[values.COLOR_MAP]), size[0],
+                    size[1]))
     except CanvasError:
         for image in set(bpy.data.images) - before:
             bpy.data.images.remove(image)

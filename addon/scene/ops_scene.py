@@ -2,25 +2,34 @@
 """Operators that stage the painting in the scene: canvas, lights, camera.
 
 Build Canvas makes a new canvas for a painting no canvas of the scene shows
-yet, and rebuilds in place the canvas that shows it otherwise; lights and
+yet, and rebuilds in place the canvas that shows it otherwise; on a folder
+holding a painted sequence it builds the animated canvas (``animated``), whose
+maps follow the scene's frame. Reload Maps reads the active canvas's maps
+again (a sequence's frames painted since included). Lights and
 camera are found again by their role property and updated, so running those
 again never adds a second light or camera. Problems are reported in one sentence and the operator returns
 {'CANCELLED'} with the scene unchanged.
 """
 
 import bpy
-from bpy.props import StringProperty
+from bpy.props import BoolProperty, StringProperty
 from bpy.types import Operator
 
-from . import camera, canvas, lighting
+from . import animated, camera, canvas, lighting
 
 
 class PAINT_RELIEF_OT_build_canvas(Operator):
-    """Build (or update) a canvas of the chosen physical size from the painted maps, with paint relief"""
+    """Build (or update) a canvas of the chosen physical size from the painted maps, with paint relief; an animated
+    canvas, whose maps follow the scene's frame, from a painted sequence"""
 
     bl_idname = "paint_relief.build_canvas"
     bl_label = "Build Canvas"
     bl_options = {"REGISTER", "UNDO"}
+
+    frame_range: BoolProperty(
+        name="Set Frame Range",
+        description="For a painted sequence, also set the scene's frame range to the sequence's frames",
+        default=False)
 
     @classmethod
     def poll(cls, context):
@@ -29,17 +38,27 @@ class PAINT_RELIEF_OT_build_canvas(Operator):
 
     def execute(self, context):
         settings = context.scene.paint_relief
+        sequence = animated.is_sequence_folder(settings.painting_dir)
         try:
-            obj = canvas.build_canvas(context, settings.painting_dir, settings.canvas_width_cm,
-                                      settings.thickness_mm, settings.displacement_method)
+            if sequence:
+                obj = animated.build_animated_canvas(context, settings.painting_dir, settings.canvas_width_cm,
+                                                     settings.thickness_mm, settings.displacement_method,
+                                                     frame_range=self.frame_range)
+            else:
+                obj = canvas.build_canvas(context, settings.painting_dir, settings.canvas_width_cm,
+                                          settings.thickness_mm, settings.displacement_method)
         except canvas.CanvasError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
         except Exception as error:  # an unexpected failure still reaches the user as one line
             self.report({"ERROR"}, "Building the canvas from {} failed: {}".format(settings.painting_dir, error))
             return {"CANCELLED"}
-        self.report({"INFO"}, "Canvas {} is {:.1f} x {:.1f} cm".format(
-            obj.name, 100 * obj.dimensions[0], 100 * obj.dimensions[1]))
+        frames = ""
+        if sequence:
+            first, count = (int(v) for v in obj[animated.SEQUENCE_KEY])
+            frames = ", frames {} to {}".format(first, first + count - 1)
+        self.report({"INFO"}, "Canvas {} is {:.1f} x {:.1f} cm{}".format(
+            obj.name, 100 * obj.dimensions[0], 100 * obj.dimensions[1], frames))
         return {"FINISHED"}
 
 
@@ -97,7 +116,7 @@ class PAINT_RELIEF_OT_reload_maps(Operator):
     def execute(self, context):
         target = canvas.find_role(context.scene, "canvas")
         try:
-            count = canvas.reload_maps(target)
+            count = (animated.reload_maps if animated.is_animated(target) else canvas.reload_maps)(target)
         except canvas.CanvasError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
