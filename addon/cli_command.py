@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""``blender --command paint_relief paint|canvas|compare ...``: the extension from a pipeline, no checkout needed.
+"""``blender --command paint_relief paint|canvas|compare|animate ...``: the extension from a pipeline, no checkout needed.
 
 Registered with ``bpy.utils.register_cli_command`` (Blender 4.2+). The
 subcommands take the same options as the painter's command line and the
@@ -11,7 +11,8 @@ comparison script:
   [--method MESH|CYCLES_ADAPTIVE|NORMAL_MAP] [--lights] [--camera]``: build
   the canvas in an empty scene and save it (exit 0, 1 on failure, 2 for a
   malformed command line);
-- ``compare INPUT -o OUTDIR [...]``: ``sample_scenes/compare.py``.
+- ``compare INPUT -o OUTDIR [...]``: ``sample_scenes/compare.py``;
+- ``animate FRAMES -o OUTDIR [...]``: ``sample_scenes/animate.py``.
 """
 
 import importlib
@@ -20,7 +21,7 @@ import sys
 import bpy
 
 COMMAND = "paint_relief"
-USAGE = "usage: blender --command paint_relief paint|canvas|compare ARGUMENTS (--help after each for its options)"
+USAGE = "usage: blender --command paint_relief paint|canvas|compare|animate ARGUMENTS (--help after each for its options)"
 _handle = None
 
 
@@ -88,7 +89,13 @@ def _compare(argv):
     return compare_command.main(["compare", "--", *argv], prog="blender --command paint_relief compare")
 
 
-SUBCOMMANDS = {"paint": _paint, "canvas": _canvas, "compare": _compare}
+def _animate(argv):
+    from .animation import animate_command
+
+    return animate_command.main(["animate", "--", *argv], prog="blender --command paint_relief animate")
+
+
+SUBCOMMANDS = {"paint": _paint, "canvas": _canvas, "compare": _compare, "animate": _animate}
 
 
 def execute(argv):

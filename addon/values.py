@@ -219,3 +219,10 @@ def sequence_map_name(map_name, number):
     ``color_0016.exr`` (the frame number zero-padded to 4 digits, more when it needs them)."""
     stem, dot, suffix = map_name.rpartition(".")
     return "{}_{:04d}{}{}".format(stem, int(number), dot, suffix)
+
+
+def film_size(map_width, map_height, longest):
+    """(width, height) in px of renders of a ``map_width`` x ``map_height`` map whose longer side is at most
+    ``longest`` px (never enlarged), keeping the aspect."""
+    scale = min(1.0, longest / max(map_width, map_height))
+    return max(1, round(map_width * scale)), max(1, round(map_height * scale))

@@ -78,7 +78,7 @@ def _azimuth_count(text):
     return value
 
 
-def _positive_int(text):
+def positive_int(text):
     try:
         value = int(text)
     except ValueError:
@@ -88,7 +88,7 @@ def _positive_int(text):
     return value
 
 
-def _elevation(text):
+def elevation_degrees(text):
     try:
         value = float(text)
     except ValueError:
@@ -98,7 +98,7 @@ def _elevation(text):
     return value
 
 
-def _thickness(text):
+def thickness_millimetres(text):
     try:
         value = float(text)
     except ValueError:
@@ -120,16 +120,16 @@ def build_parser():
                         help="output folder: painting/, renders/, scene.blend and the comparison files")
     parser.add_argument("--azimuths", type=_azimuth_count, default=8, metavar="N",
                         help="number of light azimuths, evenly spaced from 0 degrees (default 8)")
-    parser.add_argument("--elevation", type=_elevation, default=30.0, metavar="DEG",
+    parser.add_argument("--elevation", type=elevation_degrees, default=30.0, metavar="DEG",
                         help="light elevation above the canvas in degrees (default 30)")
-    parser.add_argument("--size", type=_positive_int, default=DEFAULT_SIZE, metavar="PX",
+    parser.add_argument("--size", type=positive_int, default=DEFAULT_SIZE, metavar="PX",
                         help="the input is scaled so its longer side is at most this many pixels before painting; "
                              "maps and renders have that size (default {})".format(DEFAULT_SIZE))
-    parser.add_argument("--samples", type=_positive_int, default=16, metavar="N",
+    parser.add_argument("--samples", type=positive_int, default=16, metavar="N",
                         help="Cycles samples per pixel (default 16)")
     parser.add_argument("--method", choices=("MESH", "CYCLES_ADAPTIVE"), default="MESH",
                         help="how the relief becomes geometry (default MESH)")
-    parser.add_argument("--thickness-mm", type=_thickness, default=2.0, metavar="MM",
+    parser.add_argument("--thickness-mm", type=thickness_millimetres, default=2.0, metavar="MM",
                         help="height in millimetres of paint of height 1 (default 2)")
     parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
     parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
@@ -147,12 +147,13 @@ class Log:
     def __init__(self, quiet):
         self.quiet = quiet
         self.times = []
+        self.stream = None  # a file to print to instead of sys.stdout
         self._start = None
         self._name = None
 
     def say(self, text):
         if not self.quiet:
-            print(text, flush=True)
+            print(text, file=self.stream or sys.stdout, flush=True)
 
     def step(self, name, text):
         self.end()
@@ -303,7 +304,7 @@ def main(argv, prog=None):
 
         log.step("scene", "Building the canvas, the key light and the camera ({}, {:g} mm paint)".format(
             args.method, args.thickness_mm))
-        with _quiet_stdout(args.quiet):
+        with quiet_stdout(args.quiet):
             canvas_obj = stage_scene(package, args, painting_dir, azimuths)
         compare = package.addon.comparison.compare
 
@@ -314,12 +315,12 @@ def main(argv, prog=None):
         def progress(fraction, message):
             log.say("    {:3.0f}% {}".format(100 * fraction, message))
 
-        with _quiet_stdout(args.quiet):
+        with quiet_stdout(args.quiet):
             compare.render_sweep(bpy.context, canvas_obj, azimuths, args.elevation, str(renders_dir), args.samples,
                                  progress=progress)
 
         log.step("blend", "Saving {}".format(out_dir / "scene.blend"))
-        with _quiet_stdout(args.quiet):
+        with quiet_stdout(args.quiet):
             bpy.ops.wm.save_as_mainfile(filepath=str(out_dir / "scene.blend"), check_existing=False)
 
         log.step("comparison", "Comparing the renders with the 2-D lighting models")
@@ -329,7 +330,7 @@ def main(argv, prog=None):
     except SystemExit:
         raise
     except Exception as error:  # every failure ends with one sentence
-        sys.stderr.write(_sentence(error) + "\n")
+        sys.stderr.write(sentence(error) + "\n")
         return 1
 
     log.say("")
@@ -346,24 +347,33 @@ def main(argv, prog=None):
     return 0
 
 
-def _sentence(error):
-    """One sentence for an exception: its own message when it has one, else its kind."""
+# The exceptions whose messages are sentences for the user as they stand.
+USER_ERRORS = ("Failure", "SweepError", "FilmError", "CanvasError", "InputError", "OutputError", "ParameterError",
+               "PaintReliefError", "Cancelled", "ValueError", "OSError")
+
+
+def sentence(error, prog="compare.py"):
+    """One sentence for an exception: its own message when it has one (prefixed "``prog`` failed:" unless it is
+    one of USER_ERRORS), else its kind."""
     text = " ".join(str(error).split())
     if isinstance(error, OSError) and error.strerror:
         text = "{}{}.".format(error.strerror, ": " + str(error.filename) if error.filename else "")
     if not text:
-        text = "compare.py failed with {}.".format(type(error).__name__)
-    elif type(error).__name__ not in ("Failure", "SweepError", "CanvasError", "InputError", "OutputError",
-                                      "ParameterError", "PaintReliefError", "Cancelled", "ValueError", "OSError"):
-        text = "compare.py failed: {}".format(text)
+        text = "{} failed with {}.".format(prog, type(error).__name__)
+    elif type(error).__name__ not in USER_ERRORS:
+        text = "{} failed: {}".format(prog, text)
     return text if text.endswith(".") else text + "."
 
 
-class _quiet_stdout:
-    """With --quiet, silence what Blender itself prints (render statistics, 'Saved: ...') on file descriptor 1."""
+class quiet_stdout:
+    """With --quiet, silence what Blender itself prints (render statistics, 'Saved: ...') on file descriptor 1.
 
-    def __init__(self, quiet):
+    Given a ``log``, its lines still reach the real standard output meanwhile.
+    """
+
+    def __init__(self, quiet, log=None):
         self.quiet = quiet
+        self.log = log
 
     def __enter__(self):
         if self.quiet:
@@ -372,6 +382,8 @@ class _quiet_stdout:
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, 1)
             os.close(devnull)
+            if self.log is not None:
+                self.log.stream = os.fdopen(os.dup(self._saved), "w")
         return self
 
     def __exit__(self, *exc):
@@ -379,6 +391,7 @@ class _quiet_stdout:
             sys.stdout.flush()
             os.dup2(self._saved, 1)
             os.close(self._saved)
+            if self.log is not None:
+                self.log.stream.close()
+                self.log.stream = None
         return False
-
-

@@ -1,0 +1,277 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The relit painted film from the command line: paint a shot, build its animated canvas, render it, measure it.
+
+Part of the extension, so an installed extension runs it
+(``blender --command paint_relief animate FRAMES -o OUTDIR``, addon/cli_command.py);
+``sample_scenes/animate.py`` launches the same :func:`main` from a checkout,
+under Blender or with the ``bpy`` module (under Blender the arguments follow ``--``)::
+
+    blender -b --python-exit-code 1 --python sample_scenes/animate.py -- FRAMES -o OUTDIR [options]
+    .venv/bin/python sample_scenes/animate.py FRAMES -o OUTDIR [options]
+
+FRAMES is footage (a folder of frames, a ``#`` pattern such as
+``render/frame_####.exr``, as ``python -m core sequence`` takes it) or a
+folder already painted by ``python -m core sequence``. Steps, each printed
+with its time:
+
+1. load the extension (as ``compare_command``);
+2. paint: footage is painted with ``core.paint_sequence_files`` into
+   ``OUTDIR/painted`` at the footage's size (a run stopped part way goes on
+   after its last complete frame; a painted folder is used as it is);
+3. scene: an empty scene; the Build Canvas operator builds the animated
+   canvas (``--method``, ``--thickness-mm``, 40 cm wide) and sets the scene's
+   frame range to the sequence; the key light alone (brightness 1, so white
+   paint on a flat canvas renders 1.0) at ``--azimuth`` and ``--elevation``,
+   and the orthographic camera; the render is the map's aspect with its
+   longer side ``--size`` px (never larger than the maps);
+4. film: every frame rendered with Cycles into ``OUTDIR/relit/NNNN.png``
+   (``addon/animation/film.py``), one line per frame with its seconds;
+5. ``OUTDIR/scene.blend``, set to render the same film (Render Animation);
+6. ``core.evaluation.animation.run_animation``: the paper's 2-D lighting
+   of every frame (``OUTDIR/paper/NNNN.png``), footage | relit | paper side by
+   side (``OUTDIR/side_by_side/NNNN.png``, ``animation.gif``), the warping
+   errors (``animation.json``, ``animation.md``);
+7. ``OUTDIR/animation.mp4`` from the side-by-side frames with Blender's own
+   FFmpeg, when this Blender has it.
+
+Azimuths are degrees in the image from +x (right) towards +y (down), as for
+the painter's ``light`` command and ``compare.py``. A bad input ends with one
+sentence on stderr and exit code 1 (2 for a malformed command line).
+"""
+
+import importlib
+import os
+import sys
+import time
+from pathlib import Path
+
+from ..comparison.compare_command import (
+    CANVAS_WIDTH_CM,
+    KEY_BRIGHTNESS,
+    Failure,
+    Log,
+    Parser,
+    elevation_degrees,
+    load_extension,
+    positive_int,
+    quiet_stdout,
+    script_arguments,
+    sentence,
+    thickness_millimetres,
+)
+
+DEFAULT_SIZE = 480
+DEFAULT_SAMPLES = 16
+DEFAULT_AZIMUTH = 135.0
+"""Degrees (the painter's convention): the light comes from the lower left of the picture, raking."""
+DEFAULT_ELEVATION = 30.0
+
+
+def _azimuth(text):
+    import argparse
+
+    try:
+        return float(text) % 360.0
+    except ValueError:
+        raise argparse.ArgumentTypeError("{!r} is not a number of degrees".format(text)) from None
+
+
+def build_parser(prog="animate.py"):
+    parser = Parser(
+        prog=prog,
+        description="Paint a shot (or take a painted sequence), build its animated relief canvas in Blender, render "
+                    "every frame with Cycles under a raking light, light it with the paper's 2-D model too, and "
+                    "measure how steady both films are against the footage.",
+        epilog="Azimuths follow the painter: degrees from image +x (right) towards +y (down). Under Blender: "
+               "blender -b --python-exit-code 1 --python sample_scenes/animate.py -- FRAMES -o OUTDIR.")
+    parser.add_argument("frames", metavar="FRAMES",
+                        help="footage (a folder of frames or a pattern such as render/frame_####.exr) or a folder "
+                             "painted by `python -m core sequence`")
+    parser.add_argument("-o", "--output", metavar="OUTDIR", required=True,
+                        help="output folder: painted/, relit/, paper/, side_by_side/, animation.gif, animation.mp4, "
+                             "animation.json, animation.md, scene.blend")
+    parser.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
+                        help="Cycles samples per pixel (default {})".format(DEFAULT_SAMPLES))
+    parser.add_argument("--size", type=positive_int, default=DEFAULT_SIZE, metavar="PX",
+                        help="longer side of the renders and films in pixels, at most the painted maps' "
+                             "(default {}); the painting keeps the footage's size".format(DEFAULT_SIZE))
+    parser.add_argument("--azimuth", type=_azimuth, default=DEFAULT_AZIMUTH, metavar="DEG",
+                        help="the light's azimuth in degrees (default {:g}: from the lower left)".format(DEFAULT_AZIMUTH))
+    parser.add_argument("--elevation", type=elevation_degrees, default=DEFAULT_ELEVATION, metavar="DEG",
+                        help="the light's elevation above the canvas in degrees (default {:g})".format(DEFAULT_ELEVATION))
+    parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
+    parser.add_argument("--method", choices=("MESH", "CYCLES_ADAPTIVE"), default="MESH",
+                        help="how the relief becomes geometry (default MESH)")
+    parser.add_argument("--thickness-mm", type=thickness_millimetres, default=2.0, metavar="MM",
+                        help="height in millimetres of paint of height 1 (default 2)")
+    parser.add_argument("--denoise", action="store_true", help="Cycles' denoiser on (off by default)")
+    parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    return parser
+
+
+def paint(core, package, args, out_dir, log):
+    """The painted sequence's folder: FRAMES when it is one, else OUTDIR/painted painted (or gone on with) from
+    the footage FRAMES."""
+    frames = os.path.abspath(args.frames)
+    if package.addon.values.sequence_frames(frames) is not None:
+        log.say("    {} is a painted sequence: using it as it is".format(frames))
+        return Path(frames)
+    painted = out_dir / "painted"
+    done = package.addon.values.sequence_frames(str(painted))
+    if done:
+        log.say("    {} frames painted already in {}: going on after frame {}".format(len(done), painted, done[-1]))
+    shown = {"frame": None}
+
+    def progress(fraction, message):
+        frame = message.split(":", 1)[0]
+        if frame != shown["frame"]:
+            shown["frame"] = frame
+            log.say("    {:3.0f}% painting {}".format(100 * fraction, frame.lower()))
+
+    params = core.Params(seed=args.seed).validate()
+    report = core.paint_sequence_files([args.frames], str(painted), params, progress=progress)
+    log.say("    {} frames, {} x {} px, motion from the {}".format(
+        len(report["frames"]), report["width"], report["height"], report["motion"]))
+    return painted
+
+
+def call_operator(operator, **kwargs):
+    """Run a Paint Relief operator; Failure with its one-sentence report when it does not finish."""
+    try:
+        result = operator(**kwargs)
+    except RuntimeError as error:  # an operator's ERROR report raises in background mode
+        text = " ".join(str(error).split())
+        raise Failure(text[len("Error: "):] if text.startswith("Error: ") else text) from None
+    if "FINISHED" not in result:
+        raise Failure("The operator {} did not finish.".format(operator.idname_py()))
+
+
+def stage_scene(package, args, painted_dir):
+    """An empty scene with the animated canvas, the key light and the camera; returns (canvas, film size)."""
+    import math
+
+    import bpy
+
+    scene = bpy.context.scene
+    for obj in list(scene.objects):  # the start-up file's cube, light and camera
+        bpy.data.objects.remove(obj)
+    settings = scene.paint_relief
+    settings.painting_dir = str(painted_dir)
+    settings.canvas_width_cm = CANVAS_WIDTH_CM
+    settings.thickness_mm = args.thickness_mm
+    settings.displacement_method = args.method
+    settings.light_azimuth = math.radians(args.azimuth)
+    settings.light_elevation = math.radians(args.elevation)
+    settings.light_strength = KEY_BRIGHTNESS
+    settings.fill_light = False
+    settings.camera_match_resolution = True
+    settings.camera_standard_view = True
+    ops = bpy.ops.paint_relief
+    call_operator(ops.build_canvas, frame_range=True)
+    call_operator(ops.add_lights)
+    call_operator(ops.add_camera)
+    canvas_obj = package.addon.scene.canvas.find_role(scene, "canvas")
+    film = package.addon.animation.film
+    size = package.addon.values.film_size(*film.canvas_map_size(canvas_obj), args.size)
+    return canvas_obj, size
+
+
+def save_scene(film, scene, out_dir, args, size):
+    """Save OUTDIR/scene.blend set to render the film as it was rendered (Render Animation writes relit/NNNN.png)."""
+    import bpy
+
+    previous = film.configure_film(scene, args.samples, args.denoise, size)
+    previous.append((scene.render, "filepath", scene.render.filepath))
+    scene.render.filepath = str(out_dir / "relit" / "####")
+    try:
+        bpy.ops.wm.save_as_mainfile(filepath=str(out_dir / "scene.blend"), check_existing=False)
+    finally:
+        film.restore(previous)
+
+
+def main(argv, prog=None):
+    """Run the film for ``argv`` (a program name first; Blender's own arguments end at "--"); return the exit code."""
+    parser = build_parser(prog or "animate.py")
+    args = parser.parse_args(script_arguments(argv))
+    log = Log(args.quiet)
+    started = time.perf_counter()
+    try:
+        if "#" not in args.frames and not os.path.exists(args.frames):
+            raise Failure("The frames {} do not exist.".format(args.frames))
+
+        log.step("extension", "Loading the Paint Relief extension")
+        import bpy
+
+        package, where = load_extension()
+        core = importlib.import_module(package.__name__ + ".core")
+        writing = importlib.import_module(core.__name__ + ".files.writing")
+        animation = importlib.import_module(core.__name__ + ".evaluation.animation")
+        film = importlib.import_module(package.__name__ + ".addon.animation.film")
+        log.say("    from {}".format(where))
+        out_dir = Path(writing.ensure_output_dir(args.output)).resolve()
+
+        log.step("paint", "Painting {} into {}".format(args.frames, out_dir / "painted"))
+        painted_dir = paint(core, package, args, out_dir, log)
+
+        log.step("scene", "Building the animated canvas, the key light and the camera ({}, {:g} mm paint)".format(
+            args.method, args.thickness_mm))
+        with quiet_stdout(True, log):
+            canvas_obj, size = stage_scene(package, args, painted_dir)
+        frames = film.check_film(bpy.context.scene, canvas_obj, args.samples)
+
+        log.step("film", "Rendering {} frames at {} x {} px with Cycles, {} samples, light at {:g} degrees, elevation "
+                 "{:g} degrees".format(len(frames), size[0], size[1], args.samples, args.azimuth, args.elevation))
+        def progress(fraction, message):
+            if message.startswith("Rendered"):
+                log.say("    {:3.0f}% {}".format(100 * fraction, message))
+
+        with quiet_stdout(True, log):  # Blender's render statistics hidden, the frame lines shown
+            seconds = film.render_film(bpy.context, canvas_obj, str(out_dir / "relit"), args.samples, size,
+                                       args.denoise, progress=progress)
+
+        log.step("blend", "Saving {}".format(out_dir / "scene.blend"))
+        with quiet_stdout(True, log):
+            save_scene(film, bpy.context.scene, out_dir, args, size)
+
+        log.step("measures", "Lighting every frame with the paper's model; warping errors against the footage")
+        render = {"samples": args.samples, "denoise": args.denoise, "method": args.method,
+                  "thickness_mm": args.thickness_mm, "seconds": [round(s, 3) for s in seconds],
+                  "seconds_per_frame": round(sum(seconds) / len(seconds), 3)}
+        result = animation.run_animation(painted_dir, out_dir / "relit", out_dir, args.azimuth, args.elevation,
+                                         render=render)
+
+        movie = None
+        if film.movie_available():
+            log.step("movie", "Encoding {} with Blender's FFmpeg".format(out_dir / "animation.mp4"))
+            with quiet_stdout(True, log):
+                movie = film.encode_movie(str(out_dir / "side_by_side"), frames,
+                                          _png_size(out_dir / "side_by_side" / film.frame_file(frames[0])),
+                                          str(out_dir / "animation.mp4"))
+        log.end()
+    except SystemExit:
+        raise
+    except Exception as error:  # every failure ends with one sentence
+        sys.stderr.write(sentence(error, parser.prog) + "\n")
+        return 1
+
+    figures = result["warping_error"]
+    log.say("")
+    log.say("Seconds per step:")
+    for name, seconds_taken in log.times:
+        log.say("    {:<11} {:7.1f}".format(name, seconds_taken))
+    log.say("    {:<11} {:7.1f}".format("total", time.perf_counter() - started))
+    log.say("Cycles took {:.2f} s per frame at {} x {} px.".format(render["seconds_per_frame"], *size))
+    log.say("Warping error: footage {:.5f}, relit {:.5f} ({:.2f}x), paper {:.5f} ({:.2f}x), unlit painting {:.5f} "
+            "({:.2f}x).".format(figures["footage"]["mean"], figures["relit"]["mean"], figures["relit"]["ratio"],
+                                figures["paper"]["mean"], figures["paper"]["ratio"], figures["painting"]["mean"],
+                                figures["painting"]["ratio"]))
+    log.say("Films: {0}/relit, {0}/paper, {0}/animation.gif{1}; figures: {0}/animation.md, {0}/animation.json; "
+            "the scene in {0}/scene.blend".format(out_dir, ", {}/animation.mp4".format(out_dir) if movie else ""))
+    return 0
+
+
+def _png_size(path):
+    """(width, height) of a PNG from its header."""
+    with open(path, "rb") as file:
+        header = file.read(24)
+    return int.from_bytes(header[16:20], "big"), int.from_bytes(header[20:24], "big")
