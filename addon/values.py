@@ -155,37 +155,11 @@ def relief_pixels(thickness_mm, width_cm, map_width):
     return thickness_mm / pixel_mm
 
 
-# --- where paintings go --------------------------------------------------------
-
-def folder_stem(image_path):
-    """A folder-name-safe stem of an image file name: ``"My photo (1).JPG"`` -> ``"My_photo_1"``.
-
-    Letters, digits, '-' and '_' are kept, runs of anything else become one
-    '_'; an empty result becomes ``"painting"``.
-    """
-    import os
-    import re
-
-    stem = os.path.splitext(os.path.basename(str(image_path).rstrip("/\\")))[0]
-    stem = re.sub(r"[^0-9A-Za-z_-]+", "_", stem).strip("_")
-    return stem or "painting"
-
-
-def next_painting_folder(parent, image_path, digits=3):
-    """The first ``parent/<stem>_<counter>`` (counter from 1, ``digits`` wide) that does not exist yet.
-
-    Each painting gets a folder of its own, so a new painting never
-    overwrites an earlier one. Nothing is created here.
-    """
-    import os
-
-    stem = folder_stem(image_path)
-    counter = 1
-    while True:
-        folder = os.path.join(parent, "{}_{:0{}d}".format(stem, counter, digits))
-        if not os.path.exists(folder):
-            return folder
-        counter += 1
+def film_size(map_width, map_height, longest):
+    """(width, height) in px of renders of a ``map_width`` x ``map_height`` map whose longer side is at most
+    ``longest`` px (never enlarged), keeping the aspect."""
+    scale = min(1.0, longest / max(map_width, map_height))
+    return max(1, round(map_width * scale)), max(1, round(map_height * scale))
 
 
 # --- painted sequences (addon/scene/animated.py) --------------------------------
@@ -221,8 +195,34 @@ def sequence_map_name(map_name, number):
     return "{}_{:04d}{}{}".format(stem, int(number), dot, suffix)
 
 
-def film_size(map_width, map_height, longest):
-    """(width, height) in px of renders of a ``map_width`` x ``map_height`` map whose longer side is at most
-    ``longest`` px (never enlarged), keeping the aspect."""
-    scale = min(1.0, longest / max(map_width, map_height))
-    return max(1, round(map_width * scale)), max(1, round(map_height * scale))
+# --- where paintings go --------------------------------------------------------
+
+def folder_stem(image_path):
+    """A folder-name-safe stem of an image file name: ``"My photo (1).JPG"`` -> ``"My_photo_1"``.
+
+    Letters, digits, '-' and '_' are kept, runs of anything else become one
+    '_'; an empty result becomes ``"painting"``.
+    """
+    import os
+    import re
+
+    stem = os.path.splitext(os.path.basename(str(image_path).rstrip("/\\")))[0]
+    stem = re.sub(r"[^0-9A-Za-z_-]+", "_", stem).strip("_")
+    return stem or "painting"
+
+
+def next_painting_folder(parent, image_path, digits=3):
+    """The first ``parent/<stem>_<counter>`` (counter from 1, ``digits`` wide) that does not exist yet.
+
+    Each painting gets a folder of its own, so a new painting never
+    overwrites an earlier one. Nothing is created here.
+    """
+    import os
+
+    stem = folder_stem(image_path)
+    counter = 1
+    while True:
+        folder = os.path.join(parent, "{}_{:0{}d}".format(stem, counter, digits))
+        if not os.path.exists(folder):
+            return folder
+        counter += 1

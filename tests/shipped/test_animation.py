@@ -1,0 +1,58 @@
+"""The animation flow from the installed zip: a painted 4-frame sequence, the animated canvas, two Cycles frames,
+the ``animate`` command (tests/shipped/animation.py), on every Blender `make test-shipped` builds."""
+
+import pytest
+from conftest import run_script
+
+FIRST, FRAMES = 11, 4
+NAMES = ["{:04d}.png".format(n) for n in range(FIRST, FIRST + FRAMES)]
+
+
+@pytest.fixture(scope="module")
+def animation(package_zip, tmp_path_factory):
+    work = tmp_path_factory.mktemp("animation")
+    run, results = run_script("animation.py", package_zip, work, user_dir=work / "blender_user", cwd=work)
+    assert results, "animation.py printed no results:\n{}\n{}".format(run.stdout[-3000:], run.stderr[-3000:])
+    return results
+
+
+def _step(animation, name):
+    found = animation[name]
+    assert "exception" not in found, found.get("exception")
+    return found
+
+
+def test_the_sequence_is_painted_with_the_zips_libraries(animation):
+    assert animation["install"]["result"] == ["FINISHED"] and animation["install"]["enabled"]
+    assert animation["libraries"]["problem"] is None
+    found = _step(animation, "paint_sequence")
+    assert found["frames"] == list(range(FIRST, FIRST + FRAMES)) and found["motion"] == "optical flow"
+    assert found["files"] == ["height_{:04d}.exr".format(n) for n in range(FIRST, FIRST + FRAMES)]
+
+
+def test_the_animated_canvas_follows_the_frame(animation):
+    found = _step(animation, "animated_canvas")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["frame_range"] == [FIRST, FIRST + FRAMES - 1]
+    # Colour, height and opacity nodes and the Displace modifier's texture: image sequences shown frame by frame.
+    assert len(found["readers"]) == 4, found["readers"]
+    for reader in found["readers"]:
+        assert (reader["source"], reader["duration"], reader["start"], reader["offset"], reader["auto"]) == (
+            "SEQUENCE", FRAMES, FIRST, FIRST - 1, True), reader
+    assert found["height_max"] > 0 and found["heights_differ"] > 1e-5, found
+    assert found["same_frame_again"] == 0.0
+
+
+def test_two_frames_render_with_cycles(animation):
+    found = _step(animation, "two_cycles_frames")
+    assert all(result == ["FINISHED"] for result, _ in found["results"]), found["results"]
+    assert found["shape"] == [48, 64, 3] and min(found["std"]) > 0.02
+    assert found["difference"] > 0.01, "the two rendered frames are the same"
+
+
+def test_the_animate_command(animation):
+    found = _step(animation, "animate_command")
+    assert (found["code"], found["bad"]) == (0, 1)
+    assert found["relit"] == NAMES and found["paper"] == NAMES
+    assert {"animation.gif", "animation.json", "animation.md", "scene.blend"} <= set(found["files"])
+    assert ("animation.mp4" in found["files"]) == found["movie_available"]
