@@ -115,6 +115,17 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
                         previous.next_ident + len(born), len(born), carried.occluded + carried.faded, clock.seconds)
 
 
+def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray, motion: FrameMotion) -> bool:
+    """Whether ``next_frame`` would give ``previous`` again: the frames are equal and nothing moves, no stroke of
+    ``previous`` is fading, and its judging canvas was the frame shown (no stroke was born on top of it: its
+    opacity is the shown frame's). Then every stroke stays where and as it is, none dies and none is born, so a
+    still stretch of a shot is painted once."""
+    living = previous.living
+    return (np.array_equal(image, next_image) and not motion.forward.any() and not motion.backward.any()
+            and bool(np.all(living.level == living.fade_frames)) and not living.dying.any()
+            and np.array_equal(previous.opacity, previous.canvas.opacity))
+
+
 class Clock:
     """Wall-clock seconds of consecutive stages."""
 
