@@ -1,0 +1,396 @@
+"""Benchmark of `core sequence` (strokes that live across frames) against painting each frame alone.
+
+For one clip (a folder of frames, a ``frame_####.png`` pattern or files in
+order, as `core sequence` takes them; ``--frames A-B`` selects) it runs, as
+a user would, `python -m core paint FRAME -o DIR --seed 5` on every frame
+alone and `python -m core sequence CLIP -o DIR --seed 5` on the whole clip,
+then prints a table of both side by side:
+
+- image size and frames;
+- seconds per frame: the median over frames (and --runs) of each whole
+  `core paint` command; each whole `core sequence` command's wall time over
+  its frames, median of --sequence-runs; then the sequence's stages from its
+  report.json ("seconds", totals over the clip, shown per frame; "other" is
+  the wall time outside them: start-up, imports, reading, writing);
+- peak resident memory (ru_maxrss of the child, from os.wait4; for the
+  frames alone the largest over them);
+- strokes per frame (report.json "strokes" alone; the sequence's per_frame
+  "alive", and its "born" and "died");
+- the mean PSNR (dB) of the painted frames against the source frames;
+- report.json's "warping_error" of the sequence (its own motion, "motion");
+- with --coherence-python PY (an interpreter with NumPy, OpenCV and
+  OpenImageIO): ../shared/tools/coherence.py for both (motion from the
+  source frames by OpenCV DIS): the warping error of the painting and of the
+  height against the footage's, and the stillness (mean change of the
+  painting where the footage stands still, against the footage's);
+- ../shared/tools/stroke_stats.py on one frame of each (--stats-frame,
+  default the middle one): speckle_share and edge_fidelity side by side,
+  with chroma_err_smooth, highlights_kept and crack_share, all of which it
+  computes from painting.png, height.exr and the source frame only. Its
+  stroke figures need that frame's strokes.json, which `core paint` writes
+  and `core sequence` does not (it keeps one strokes.lives), so stroke_stats
+  is given the sequence frame's pictures beside the strokes.json of the same
+  frame painted alone and its stroke figures are printed for the frame
+  alone only.
+
+The measuring tools read the source frames as sRGB pictures: frames that are
+not PNG (a Blender multilayer EXR, a JPEG) are written once as 16-bit sRGB
+PNG through core.files.reading.read_image (the picture the painter sees: an
+EXR's first part, Combined, through the sRGB curve, clipped to [0, 1]).
+
+With --pictures DIR it writes sequence_strip.png: 4 consecutive frames
+(--strip-start, default the middle of the clip) at 1:1 in columns, with rows
+source / painted alone / sequence, and sequence_strip.gif, the same rows
+stacked, one GIF frame per frame.
+
+When this checkout's `core sequence` does not exist (its --help exits
+non-zero) the bench stops with one sentence before painting anything;
+--alone-only runs and measures the frames painted alone without it.
+Painted folders go to a temporary folder, or stay in --work DIR
+(DIR/alone/frame_####/, DIR/sequence/).
+
+Usage: python bench/sequence.py CLIP... [--frames A-B] [--seed 5] [--runs 1] [--sequence-runs 1]
+         [--coherence-python /work/cohvenv/bin/python] [--pictures DIR] [--work DIR] [--alone-only]
+         [--stats-frame N] [--strip-start N] [--tools DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+from common import ROOT
+from core.figures.gif import write_gif
+from core.figures.sheet import contact_sheet
+from core.files import reading, writing
+from core.files.frames import Frames, find_frames
+from core.measures.metrics import psnr
+from core.workers import worker_count
+
+TOOLS = ROOT.parent / "shared" / "tools"
+STRIP_FRAMES = 4
+LABEL_HEIGHT = 24
+ROWS = ("source", "alone", "sequence")
+PICTURE_FIGURES = ("speckle_share", "edge_fidelity", "chroma_err_smooth", "highlights_kept", "crack_share")
+STROKE_FIGURES = ("median_Lw_layers", "dabs", "width_contrast_area")
+
+
+def run_child(command: Sequence[str], what: str, quiet: bool = False) -> tuple:
+    """Run ``command`` from the repository root: (wall seconds, peak resident MiB of the child).
+
+    ``quiet`` drops what it prints on stdout. SystemExit with one sentence naming ``what`` and the last line
+    the child wrote on stderr when it fails.
+    """
+    start = time.perf_counter()
+    child = subprocess.Popen([str(c) for c in command], cwd=ROOT, stdout=subprocess.DEVNULL if quiet else None,
+                             stderr=subprocess.PIPE, text=True)
+    err = child.stderr.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.perf_counter() - start
+    code = os.waitstatus_to_exitcode(status)
+    child.returncode = code
+    if code != 0:
+        last = err.strip().splitlines()[-1] if err.strip() else "no message"
+        raise SystemExit(f"{what} failed with exit code {code}: {last}")
+    return seconds, usage.ru_maxrss / 1024.0  # KiB on Linux
+
+
+def sequence_missing() -> Optional[str]:
+    """None when this checkout has `core sequence`, else the sentence that says it has not."""
+    done = subprocess.run([sys.executable, "-m", "core", "sequence", "--help"], cwd=ROOT,
+                          capture_output=True, text=True)
+    if done.returncode == 0:
+        return None
+    return (f"This checkout has no `core sequence` (`python -m core sequence --help` exits {done.returncode}), "
+            f"so the sequence half cannot run; --alone-only measures the frames painted alone.")
+
+
+def frame_name(number: int, frames: Frames) -> str:
+    """``frame_####``: the frame number zero-padded to at least 4 digits, one width for the whole clip."""
+    digits = max(4, len(str(max(frames.numbers))))
+    return f"frame_{number:0{digits}d}"
+
+
+def stage_sources(frames: Frames, folder: Path) -> List[Path]:
+    """The source frames as sRGB pictures named in frame order in ``folder``: a PNG frame linked, any other
+    written once as 16-bit PNG from ``reading.read_image``. Returns their paths in frame order."""
+    folder.mkdir(parents=True, exist_ok=True)
+    staged = []
+    for path, number in zip(frames.paths, frames.numbers, strict=True):
+        target = folder / f"{frame_name(number, frames)}.png"
+        if not target.exists():
+            if path.suffix.lower() == ".png":
+                target.symlink_to(path.resolve())
+            else:
+                writing.write_png(target, reading.read_image(path, max_megapixels=math.inf), bits=16)
+        staged.append(target)
+    return staged
+
+
+def paint_alone(frames: Frames, work: Path, seed: int, runs: int) -> dict:
+    """`core paint` on every frame alone, ``runs`` times each, into ``work``/frame_####/.
+
+    Returns {"walls": [s], "peaks": [MiB], "strokes": [count per frame], "folders": [Path per frame]}.
+    """
+    walls, peaks, strokes, folders = [], [], [], []
+    for path, number in zip(frames.paths, frames.numbers, strict=True):
+        out = work / frame_name(number, frames)
+        for _ in range(runs):
+            seconds, peak = run_child([sys.executable, "-m", "core", "paint", path, "-o", out, "--seed", seed, "-q"],
+                                      f"core paint on {path}")
+            walls.append(seconds)
+            peaks.append(peak)
+        strokes.append(json.loads((out / "report.json").read_text())["strokes"])
+        folders.append(out)
+    return {"walls": walls, "peaks": peaks, "strokes": strokes, "folders": folders}
+
+
+def paint_sequence(inputs: Sequence[str], frame_range: Optional[str], out: Path, seed: int, runs: int) -> dict:
+    """`core sequence` on the clip, ``runs`` times, into ``out``: {"walls": [s], "peaks": [MiB], "report": dict}."""
+    command = [sys.executable, "-m", "core", "sequence", *inputs, "-o", out, "--seed", seed, "-q"]
+    if frame_range:
+        command += ["--frames", frame_range]
+    walls, peaks = [], []
+    for _ in range(runs):
+        seconds, peak = run_child(command, "core sequence")
+        walls.append(seconds)
+        peaks.append(peak)
+    report = json.loads((out / "report.json").read_text())
+    for key in ("frames", "motion", "seconds", "per_frame", "warping_error"):
+        if key not in report:
+            raise SystemExit(f"{out / 'report.json'} has no {key!r}, which this bench reads.")
+    return {"walls": walls, "peaks": peaks, "report": report}
+
+
+def sequence_frames(out: Path, frames: Frames, folder: Path) -> List[Path]:
+    """Links in ``folder`` to the sequence's painting_####.png and height_####.exr, and nothing else (the
+    folder coherence.py reads); returns the paintings' paths in ``out``, in frame order."""
+    folder.mkdir(parents=True, exist_ok=True)
+    paintings = []
+    for number in frames.numbers:
+        for stem, suffix in (("painting", ".png"), ("height", ".exr")):
+            found = out / f"{stem}_{number:04d}{suffix}"
+            if not found.is_file():
+                raise SystemExit(f"core sequence wrote no {found.name} in {out}.")
+            link = folder / found.name
+            if not link.exists():
+                link.symlink_to(found.resolve())
+        paintings.append(out / f"painting_{number:04d}.png")
+    return paintings
+
+
+def mean_psnr(paintings: Sequence[Path], sources: Sequence[Path]) -> float:
+    """Mean over frames of the PSNR (dB) of each painting against its source frame (sRGB [0, 1])."""
+    return statistics.fmean(psnr(reading.read_image(p, max_megapixels=math.inf),
+                                 reading.read_image(s, max_megapixels=math.inf)) for p, s in zip(paintings, sources, strict=True))
+
+
+def coherence(python: str, tools: Path, sources: Path, painted: Path, scratch: Path) -> dict:
+    """coherence.py's figures (its --json, without the per-pair rows) of the paintings in ``painted``."""
+    result = scratch / f"coherence_{painted.name}.json"
+    run_child([python, tools / "coherence.py", sources, painted, "--json", result], f"coherence.py on {painted}",
+              quiet=True)
+    return json.loads(result.read_text())
+
+
+def stroke_stats(tools: Path, folder: Path, source: Path) -> dict:
+    """stroke_stats.py's one JSON line on a painted ``folder`` (strokes.json, height.exr, painting.png)."""
+    done = subprocess.run([sys.executable, str(tools / "stroke_stats.py"), str(folder), str(source)],
+                          cwd=ROOT, capture_output=True, text=True)
+    if done.returncode != 0:
+        last = done.stderr.strip().splitlines()[-1] if done.stderr.strip() else "no message"
+        raise SystemExit(f"stroke_stats.py failed on {folder}: {last}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def sequence_frame_folder(alone: Path, painting: Path, height: Path, folder: Path) -> Path:
+    """A folder stroke_stats.py reads for one sequence frame: its painting.png and height.exr, beside the
+    strokes.json and report.json of the same frame painted alone (``alone``), which only its stroke figures
+    read."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, target in (("painting.png", painting), ("height.exr", height),
+                         ("strokes.json", alone / "strokes.json"), ("report.json", alone / "report.json")):
+        link = folder / name
+        if link.is_symlink() or link.exists():
+            link.unlink()
+        link.symlink_to(target.resolve())
+    return folder
+
+
+def strip(rows: Sequence[Sequence[np.ndarray]], numbers: Sequence[int], names: Sequence[str] = ROWS) -> np.ndarray:
+    """Frames side by side at 1:1: ``rows[r][c]`` is row ``names[r]``'s picture of frame ``numbers[c]``.
+
+    rows: equally sized (H, W, 3) sRGB [0, 1] pictures, one list per row,
+    each as long as ``numbers``. Every picture sits under its label
+    ("source 12"), on core.figures.sheet's grid. Returns float32 (rows x
+    (24 + H) + gaps, columns x W + gaps, 3).
+    """
+    height = rows[0][0].shape[0]
+    panels = [(f"{name} {number}", picture) for name, row in zip(names, rows, strict=True)
+              for number, picture in zip(numbers, row, strict=True)]
+    return contact_sheet(panels, panel_height=height, columns=len(numbers), label_height=LABEL_HEIGHT)
+
+
+def animation(rows: Sequence[Sequence[np.ndarray]], numbers: Sequence[int],
+              names: Sequence[str] = ROWS) -> List[np.ndarray]:
+    """One picture per frame for a GIF: the rows' pictures of that frame stacked at 1:1, each under its label."""
+    return [strip([[row[c]] for row in rows], [number], names) for c, number in enumerate(numbers)]
+
+
+def write_pictures(folder: Path, numbers: Sequence[int], rows: Dict[str, Sequence[Path]]) -> None:
+    """sequence_strip.png and sequence_strip.gif in ``folder``: the frames ``numbers``, one row per entry of
+    ``rows`` (row name -> the pictures' paths, one per frame)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    pictures = [[reading.read_image(p, max_megapixels=math.inf) for p in paths] for paths in rows.values()]
+    writing.write_png(folder / "sequence_strip.png", strip(pictures, numbers, list(rows)))
+    write_gif(folder / "sequence_strip.gif", animation(pictures, numbers, list(rows)), seconds_per_frame=0.25)
+
+
+def figure(value, digits: int = 2) -> str:
+    """A table cell: a number with ``digits`` significant figures past the point, or '-' when there is none."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "-"
+    if isinstance(value, float):
+        return f"{value:.{digits}f}" if abs(value) >= 0.01 or value == 0 else f"{value:.3g}"
+    return str(value)
+
+
+def print_table(rows: Sequence[tuple]) -> None:
+    """Rows of (figure name, alone, sequence) as aligned columns."""
+    print(f"{'figure':<48} {'alone':>12} {'sequence':>12}")
+    for name, alone, sequence in rows:
+        print(f"{name:<48} {figure(alone):>12} {figure(sequence):>12}")
+
+
+def coherence_rows(alone: Optional[dict], sequence: Optional[dict]) -> List[tuple]:
+    """Table rows of coherence.py's figures of both sides (a side not measured is None)."""
+    def value(m, key, of=None):
+        if m is None or m.get(key) is None:
+            return None
+        return m[key] if of is None else m[key] / m[of] if m.get(of) else None
+
+    named = (("footage warping error", "E_src", None), ("painting warping error", "E_paint", None),
+             ("painting / footage warping error", "ratio_paint", None),
+             ("height / footage warping error", "E_height", "E_src"),
+             ("stillness: painting / footage change", "still_change_paint", "still_change_src"),
+             ("share of pixels kept / standing still", "kept", None))
+    rows = [(f"coherence: {name}", value(alone, key, of), value(sequence, key, of)) for name, key, of in named]
+    return rows[:-1] + [(rows[-1][0], *(None if m is None else f"{m['kept']:.2f} / {m['still_share']:.2f}"
+                                        for m in (alone, sequence)))]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("clip", nargs="+", help="a folder of frames, a frame_####.png pattern, or frames in order")
+    parser.add_argument("--frames", default=None, metavar="A-B", help="the frames to paint (default: all)")
+    parser.add_argument("--seed", type=int, default=5)
+    parser.add_argument("--runs", type=int, default=1, help="runs of `core paint` on each frame (default 1)")
+    parser.add_argument("--sequence-runs", type=int, default=1, help="runs of `core sequence` (default 1)")
+    parser.add_argument("--coherence-python", metavar="PY",
+                        help="interpreter with NumPy, OpenCV and OpenImageIO for coherence.py (default: not run)")
+    parser.add_argument("--tools", type=Path, default=TOOLS, help="folder of coherence.py and stroke_stats.py")
+    parser.add_argument("--pictures", type=Path, metavar="DIR", help="write sequence_strip.png and .gif here")
+    parser.add_argument("--work", type=Path, metavar="DIR", help="keep the painted folders here (default: temporary)")
+    parser.add_argument("--alone-only", action="store_true", help="paint and measure the frames alone only")
+    parser.add_argument("--stats-frame", type=int, metavar="N", help="frame for stroke_stats.py (default: middle)")
+    parser.add_argument("--strip-start", type=int, metavar="N", help="first frame of the strip (default: middle)")
+    args = parser.parse_args()
+    if args.runs < 1 or args.sequence_runs < 1:
+        parser.error("--runs and --sequence-runs must be at least 1")
+    missing = None if args.alone_only else sequence_missing()
+    if missing:
+        raise SystemExit(missing)
+    frames = find_frames(args.clip, args.frames)
+    numbers = list(frames.numbers)
+    stats_frame = args.stats_frame if args.stats_frame is not None else numbers[len(numbers) // 2]
+    first = args.strip_start if args.strip_start is not None else numbers[max(0, (len(numbers) - STRIP_FRAMES) // 2)]
+    for name, number, span in (("--stats-frame", stats_frame, 1), ("--strip-start", first, STRIP_FRAMES)):
+        if number not in numbers or number + min(span, len(numbers)) - 1 not in numbers:
+            parser.error(f"{name} {number} leaves the clip's frames {numbers[0]}-{numbers[-1]}")
+    print(f"{worker_count()} worker threads (core.workers), {os.cpu_count()} cores", file=sys.stderr)
+    with tempfile.TemporaryDirectory() as tmp:
+        work = args.work or Path(tmp)
+        scratch = Path(tmp)
+        sources = stage_sources(frames, scratch / "sources")
+        alone = paint_alone(frames, work / "alone", args.seed, args.runs)
+        alone_paintings = [f / "painting.png" for f in alone["folders"]]
+        sequence = None
+        if not args.alone_only:
+            sequence = paint_sequence(args.clip, args.frames, work / "sequence", args.seed, args.sequence_runs)
+            sequence_paintings = sequence_frames(work / "sequence", frames, scratch / "sequence_frames")
+        at = numbers.index(stats_frame)
+        stats_alone = stroke_stats(args.tools, alone["folders"][at], sources[at])
+        stats_sequence = None
+        if sequence:
+            folder = sequence_frame_folder(alone["folders"][at], sequence_paintings[at],
+                                           work / "sequence" / f"height_{stats_frame:04d}.exr", scratch / "stats")
+            stats_sequence = stroke_stats(args.tools, folder, sources[at])
+        coherent_alone = coherent_sequence = None
+        if args.coherence_python:
+            coherent_alone = coherence(args.coherence_python, args.tools, scratch / "sources", work / "alone", scratch)
+            if sequence:
+                coherent_sequence = coherence(args.coherence_python, args.tools, scratch / "sources",
+                                              scratch / "sequence_frames", scratch)
+        if args.pictures:
+            c = numbers.index(first)
+            picked = slice(c, c + STRIP_FRAMES)
+            rows = {"source": sources[picked], "alone": alone_paintings[picked]}
+            if sequence:
+                rows["sequence"] = sequence_paintings[picked]
+            write_pictures(args.pictures, numbers[picked], rows)
+        report(args, frames, alone, sequence, mean_psnr(alone_paintings, sources),
+               mean_psnr(sequence_paintings, sources) if sequence else None, stats_frame, stats_alone,
+               stats_sequence, coherent_alone, coherent_sequence)
+
+
+def report(args, frames: Frames, alone: dict, sequence: Optional[dict], psnr_alone: float,
+           psnr_sequence: Optional[float], stats_frame: int, stats_alone: dict, stats_sequence: Optional[dict],
+           coherent_alone: Optional[dict], coherent_sequence: Optional[dict]) -> None:
+    """Print the figures of both sides as one table, then the sequence's stages and its own warping error."""
+    n = len(frames.numbers)
+    print(f"clip {' '.join(args.clip)}: {n} frames ({frames.numbers[0]}-{frames.numbers[-1]}), "
+          f"{frames.width}x{frames.height} ({frames.width * frames.height / 1e6:.2f} MP), seed {args.seed}")
+    rep = sequence["report"] if sequence else None
+    per_frame = rep["per_frame"] if rep else []
+    seq_wall = statistics.median(sequence["walls"]) if sequence else None
+
+    def per(key):
+        return statistics.fmean(f[key] for f in per_frame) if per_frame else None
+
+    rows = [("seconds per frame (whole command, median)", statistics.median(alone["walls"]),
+             seq_wall / n if sequence else None),
+            ("seconds for the clip", sum(alone["walls"]) / args.runs, seq_wall),
+            ("peak memory MiB (largest child)", max(alone["peaks"]), max(sequence["peaks"]) if sequence else None),
+            ("strokes per frame (alive)", statistics.fmean(alone["strokes"]), per("alive")),
+            ("strokes born / died per frame", None, f"{per('born'):.0f} / {per('died'):.0f}" if per_frame else None),
+            ("mean PSNR dB against the source frames", psnr_alone, psnr_sequence)]
+    rows += [(f"stroke_stats frame {stats_frame}: {k}", stats_alone.get(k), (stats_sequence or {}).get(k))
+             for k in PICTURE_FIGURES]
+    rows += [(f"stroke_stats frame {stats_frame}: {k}", stats_alone.get(k), None) for k in STROKE_FIGURES]
+    if args.coherence_python:
+        rows += coherence_rows(coherent_alone, coherent_sequence)
+    print_table(rows)
+    if rep:
+        stages = rep["seconds"]
+        other = seq_wall - sum(stages.values())
+        print("sequence stages, s per frame: " + ", ".join(f"{k} {v / n:.2f}" for k, v in stages.items())
+              + f", other {other / n:.2f}")
+        w = rep["warping_error"]
+        print(f"sequence report.json warping error ({rep['motion']}): footage {w['footage']:.3g}, painting "
+              f"{w['painting']:.3g}, height {w['height']:.3g}; painting / footage {w['painting_ratio']:.2f}, "
+              f"height / footage {w['height_ratio']:.2f}")
+
+
+if __name__ == "__main__":
+    main()
