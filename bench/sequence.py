@@ -17,6 +17,13 @@ then prints a table of both side by side:
 - strokes per frame (report.json "strokes" alone; the sequence's per_frame
   "alive", and its "born" and "died");
 - the mean PSNR (dB) of the painted frames against the source frames;
+- ALGORITHM §9's measures (core.motion.measures) of both sides with one
+  motion: the clip's Vector pass when every frame carries one, else
+  core.motion.optical_flow on the source frames: the warping error of the
+  footage and of the painting, the painting's and the height's (normalised
+  over the clip) over the footage's, the stillness of the painting over the
+  footage's, and the shares of pixels visible in both frames and standing
+  still that they are taken over (a panning camera leaves none still);
 - report.json's "warping_error" of the sequence (its own motion, "motion");
 - with --coherence-python PY (an interpreter with NumPy, OpenCV and
   OpenImageIO): ../shared/tools/coherence.py for both (motion from the
@@ -74,8 +81,12 @@ from common import ROOT
 from core.figures.gif import write_gif
 from core.figures.sheet import contact_sheet
 from core.files import reading, writing
-from core.files.frames import Frames, find_frames
+from core.files.frames import Frames, find_frames, read_vector_pass
 from core.measures.metrics import psnr
+from core.motion import measures
+from core.motion.optical_flow import optical_flow
+from core.motion.vector_pass import motion_pair
+from core.motion.visibility import visible_in_both
 from core.workers import worker_count
 
 TOOLS = ROOT.parent / "shared" / "tools"
@@ -196,6 +207,85 @@ def mean_psnr(paintings: Sequence[Path], sources: Sequence[Path]) -> float:
                                  reading.read_image(s, max_megapixels=math.inf)) for p, s in zip(paintings, sources, strict=True))
 
 
+def ratio(value: float, of: float) -> float:
+    """value / of; NaN when ``of`` is 0 or NaN."""
+    return value / of if of and not math.isnan(of) else float("nan")
+
+
+def motions(frames: Frames, sources: Sequence[Path]) -> tuple:
+    """The clip's motion between consecutive frames, as ALGORITHM §9 takes it: (name, pairs).
+
+    name: "vector pass" when every frame carries Blender's Vector pass, else
+    "optical flow" (core.motion.optical_flow on the source frames, both
+    ways). pairs: a generator of (w_f, w_b), float32 (H, W, 2) px, one pair
+    of consecutive frames at a time.
+    """
+    if all(read_vector_pass(p) is not None for p in frames.paths):
+        def passes():
+            before = read_vector_pass(frames.paths[0])
+            for path in frames.paths[1:]:
+                after = read_vector_pass(path)
+                yield motion_pair(before, after)
+                before = after
+        return "vector pass", passes()
+
+    def flows():
+        before = reading.read_image(sources[0], max_megapixels=math.inf)
+        for path in sources[1:]:
+            after = reading.read_image(path, max_megapixels=math.inf)
+            yield optical_flow(before, after), optical_flow(after, before)
+            before = after
+    return "optical flow", flows()
+
+
+def steadiness(frames: Frames, sources: Sequence[Path], sides: Dict[str, tuple]) -> tuple:
+    """ALGORITHM §9's measures (core.motion.measures) of each painted side, with the clip's own motion.
+
+    sides: name -> (paintings, heights), paths one per frame (painting PNG,
+    height EXR). Returns (motion name, {name: {"painting", "height", "footage",
+    "painting_ratio", "height_ratio", "stillness_ratio", "shares"}}): warping
+    errors (mean over pairs; heights normalised over the clip) and the ratios
+    to the footage's, the stillness of the painting over the footage's, and
+    "visible / still": the mean shares of pixels visible in both frames and
+    standing still, over which those are taken.
+    """
+    def picture(path):
+        return reading.read_image(path, max_megapixels=math.inf)
+
+    def height(path):
+        return reading.read_exr(path)[0][..., 0]
+
+    ranges = {name: measures.value_range(height(h) for h in heights) for name, (_, heights) in sides.items()}
+    per_pair = {name: {"painting": [], "height": [], "painting_still": []} for name in sides}
+    footage, footage_still, shares = [], [], []
+    name, pairs = motions(frames, sources)
+    for t, (forward, backward) in enumerate(pairs):
+        visible = visible_in_both(forward, backward)
+        still = measures.still_pixels(forward, backward)
+        shares.append((float(visible.mean()), float(still.mean())))
+        before, after = picture(sources[t]), picture(sources[t + 1])
+        footage.append(measures.warping_error(before, after, forward, visible))
+        footage_still.append(measures.stillness(before, after, still))
+        for side, (paintings, heights) in sides.items():
+            before, after = picture(paintings[t]), picture(paintings[t + 1])
+            per_pair[side]["painting"].append(measures.warping_error(before, after, forward, visible))
+            per_pair[side]["painting_still"].append(measures.stillness(before, after, still))
+            low, high = ranges[side]
+            h0, h1 = (measures.normalise(height(h), low, high) for h in heights[t:t + 2])
+            per_pair[side]["height"].append(measures.warping_error(h0, h1, forward, visible))
+    e_footage = measures.mean_over_pairs(footage)
+    still_footage = measures.mean_over_pairs(footage_still)
+    visible_share, still_share = np.mean(shares, axis=0)
+    figures = {}
+    for side, values in per_pair.items():
+        e = {k: measures.mean_over_pairs(v) for k, v in values.items()}
+        figures[side] = {"footage": e_footage, "painting": e["painting"], "height": e["height"],
+                         "painting_ratio": ratio(e["painting"], e_footage), "height_ratio": ratio(e["height"], e_footage),
+                         "stillness_ratio": ratio(e["painting_still"], still_footage),
+                         "shares": f"{visible_share:.2f} / {still_share:.2f}"}
+    return name, figures
+
+
 def coherence(python: str, tools: Path, sources: Path, painted: Path, scratch: Path) -> dict:
     """coherence.py's figures (its --json, without the per-pair rows) of the paintings in ``painted``."""
     result = scratch / f"coherence_{painted.name}.json"
@@ -268,26 +358,56 @@ def figure(value, digits: int = 2) -> str:
 
 def print_table(rows: Sequence[tuple]) -> None:
     """Rows of (figure name, alone, sequence) as aligned columns."""
-    print(f"{'figure':<48} {'alone':>12} {'sequence':>12}")
+    print(f"{'figure':<60} {'alone':>12} {'sequence':>12}")
     for name, alone, sequence in rows:
-        print(f"{name:<48} {figure(alone):>12} {figure(sequence):>12}")
+        print(f"{name:<60} {figure(alone):>12} {figure(sequence):>12}")
 
 
-def coherence_rows(alone: Optional[dict], sequence: Optional[dict]) -> List[tuple]:
-    """Table rows of coherence.py's figures of both sides (a side not measured is None)."""
-    def value(m, key, of=None):
-        if m is None or m.get(key) is None:
-            return None
-        return m[key] if of is None else m[key] / m[of] if m.get(of) else None
+COHERENCE_ROWS = (("footage warping error", "E_src", None), ("painting warping error", "E_paint", None),
+                  ("painting / footage warping error", "ratio_paint", None),
+                  ("height / footage warping error", "E_height", "E_src"),
+                  ("stillness: painting / footage change", "still_change_paint", "still_change_src"))
+STEADINESS_ROWS = (("footage warping error", "footage"), ("painting warping error", "painting"),
+                   ("painting / footage warping error", "painting_ratio"),
+                   ("height / footage warping error", "height_ratio"),
+                   ("stillness: painting / footage change", "stillness_ratio"),
+                   ("shares of pixels visible in both / still", "shares"))
 
-    named = (("footage warping error", "E_src", None), ("painting warping error", "E_paint", None),
-             ("painting / footage warping error", "ratio_paint", None),
-             ("height / footage warping error", "E_height", "E_src"),
-             ("stillness: painting / footage change", "still_change_paint", "still_change_src"),
-             ("share of pixels kept / standing still", "kept", None))
-    rows = [(f"coherence: {name}", value(alone, key, of), value(sequence, key, of)) for name, key, of in named]
-    return rows[:-1] + [(rows[-1][0], *(None if m is None else f"{m['kept']:.2f} / {m['still_share']:.2f}"
-                                        for m in (alone, sequence)))]
+
+def coherence_figure(m: Optional[dict], key: str, of: Optional[str]) -> Optional[float]:
+    """coherence.py's figure ``key`` (over ``of`` when given) of one side; None when not measured."""
+    if m is None or m.get(key) is None:
+        return None
+    return m[key] if of is None else ratio(m[key], m.get(of) or 0.0)
+
+
+def table(frames: Frames, sides: Dict[str, dict], stats_frame: int, motion: str) -> List[tuple]:
+    """The rows of the table: (figure name, alone's value, sequence's value), None where a side has none.
+
+    sides: "alone" and (when painted) "sequence" -> {"seconds_per_frame",
+    "clip_seconds", "peak", "strokes", "born", "died", "psnr", "stats"
+    (stroke_stats.py's dict), "steadiness" (``steadiness``'s figures),
+    "coherence" (coherence.py's dict or None)}.
+    """
+    def row(name, get):
+        return (name, *(get(sides[side]) if side in sides else None for side in ("alone", "sequence")))
+
+    rows = [row("seconds per frame (whole command, median)", lambda m: m["seconds_per_frame"]),
+            row("seconds for the clip", lambda m: m["clip_seconds"]),
+            row("peak memory MiB (largest child)", lambda m: m["peak"]),
+            row("strokes per frame (alive)", lambda m: m["strokes"]),
+            row("strokes born / died per frame",
+                lambda m: None if m.get("born") is None else f"{m['born']:.0f} / {m['died']:.0f}"),
+            row("mean PSNR dB against the source frames", lambda m: m["psnr"])]
+    rows += [row(f"stroke_stats frame {stats_frame}: {k}", lambda m, k=k: m["stats"].get(k)) for k in PICTURE_FIGURES]
+    rows += [(f"stroke_stats frame {stats_frame}: {k}", sides["alone"]["stats"].get(k), None) for k in STROKE_FIGURES]
+    rows += [row(f"{motion}: {name}", lambda m, k=k: m["steadiness"][k]) for name, k in STEADINESS_ROWS]
+    if sides["alone"]["coherence"] is not None:
+        rows += [row(f"coherence.py DIS: {name}", lambda m, k=k, of=of: coherence_figure(m["coherence"], k, of))
+                 for name, k, of in COHERENCE_ROWS]
+        rows.append(row("coherence.py DIS: shares of pixels kept / still",
+                        lambda m: f"{m['coherence']['kept']:.2f} / {m['coherence']['still_share']:.2f}"))
+    return rows
 
 
 def main() -> None:
@@ -313,81 +433,61 @@ def main() -> None:
         raise SystemExit(missing)
     frames = find_frames(args.clip, args.frames)
     numbers = list(frames.numbers)
+    if len(numbers) < 2:
+        parser.error("the clip needs at least 2 frames")
     stats_frame = args.stats_frame if args.stats_frame is not None else numbers[len(numbers) // 2]
     first = args.strip_start if args.strip_start is not None else numbers[max(0, (len(numbers) - STRIP_FRAMES) // 2)]
     for name, number, span in (("--stats-frame", stats_frame, 1), ("--strip-start", first, STRIP_FRAMES)):
         if number not in numbers or number + min(span, len(numbers)) - 1 not in numbers:
             parser.error(f"{name} {number} leaves the clip's frames {numbers[0]}-{numbers[-1]}")
     print(f"{worker_count()} worker threads (core.workers), {os.cpu_count()} cores", file=sys.stderr)
+    n, at = len(numbers), numbers.index(stats_frame)
     with tempfile.TemporaryDirectory() as tmp:
-        work = args.work or Path(tmp)
-        scratch = Path(tmp)
+        work, scratch = args.work or Path(tmp), Path(tmp)
         sources = stage_sources(frames, scratch / "sources")
-        alone = paint_alone(frames, work / "alone", args.seed, args.runs)
-        alone_paintings = [f / "painting.png" for f in alone["folders"]]
-        sequence = None
+        painted = paint_alone(frames, work / "alone", args.seed, args.runs)
+        alone = {"seconds_per_frame": statistics.median(painted["walls"]),
+                 "clip_seconds": sum(painted["walls"]) / args.runs, "peak": max(painted["peaks"]),
+                 "strokes": statistics.fmean(painted["strokes"]),
+                 "paintings": [f / "painting.png" for f in painted["folders"]],
+                 "heights": [f / "height.exr" for f in painted["folders"]],
+                 "stats": stroke_stats(args.tools, painted["folders"][at], sources[at])}
+        sides = {"alone": alone}
+        report = None
         if not args.alone_only:
-            sequence = paint_sequence(args.clip, args.frames, work / "sequence", args.seed, args.sequence_runs)
-            sequence_paintings = sequence_frames(work / "sequence", frames, scratch / "sequence_frames")
-        at = numbers.index(stats_frame)
-        stats_alone = stroke_stats(args.tools, alone["folders"][at], sources[at])
-        stats_sequence = None
-        if sequence:
-            folder = sequence_frame_folder(alone["folders"][at], sequence_paintings[at],
-                                           work / "sequence" / f"height_{stats_frame:04d}.exr", scratch / "stats")
-            stats_sequence = stroke_stats(args.tools, folder, sources[at])
-        coherent_alone = coherent_sequence = None
-        if args.coherence_python:
-            coherent_alone = coherence(args.coherence_python, args.tools, scratch / "sources", work / "alone", scratch)
-            if sequence:
-                coherent_sequence = coherence(args.coherence_python, args.tools, scratch / "sources",
-                                              scratch / "sequence_frames", scratch)
+            ran = paint_sequence(args.clip, args.frames, work / "sequence", args.seed, args.sequence_runs)
+            report, wall = ran["report"], statistics.median(ran["walls"])
+            paintings = sequence_frames(work / "sequence", frames, scratch / "sequence_frames")
+            heights = [work / "sequence" / f"height_{number:04d}.exr" for number in numbers]
+            folder = sequence_frame_folder(painted["folders"][at], paintings[at], heights[at], scratch / "stats")
+            sides["sequence"] = {
+                "seconds_per_frame": wall / n, "clip_seconds": wall, "peak": max(ran["peaks"]),
+                "strokes": statistics.fmean(f["alive"] for f in report["per_frame"]),
+                "born": statistics.fmean(f["born"] for f in report["per_frame"]),
+                "died": statistics.fmean(f["died"] for f in report["per_frame"]),
+                "paintings": paintings, "heights": heights, "stats": stroke_stats(args.tools, folder, sources[at])}
+        motion, steady = steadiness(frames, sources, {k: (m["paintings"], m["heights"]) for k, m in sides.items()})
+        for side, m in sides.items():
+            m["steadiness"] = steady[side]
+            m["psnr"] = mean_psnr(m["paintings"], sources)
+            painted_root = work / "alone" if side == "alone" else scratch / "sequence_frames"
+            m["coherence"] = (coherence(args.coherence_python, args.tools, scratch / "sources", painted_root, scratch)
+                              if args.coherence_python else None)
         if args.pictures:
             c = numbers.index(first)
             picked = slice(c, c + STRIP_FRAMES)
-            rows = {"source": sources[picked], "alone": alone_paintings[picked]}
-            if sequence:
-                rows["sequence"] = sequence_paintings[picked]
+            rows = {"source": sources[picked], **{side: m["paintings"][picked] for side, m in sides.items()}}
             write_pictures(args.pictures, numbers[picked], rows)
-        report(args, frames, alone, sequence, mean_psnr(alone_paintings, sources),
-               mean_psnr(sequence_paintings, sources) if sequence else None, stats_frame, stats_alone,
-               stats_sequence, coherent_alone, coherent_sequence)
-
-
-def report(args, frames: Frames, alone: dict, sequence: Optional[dict], psnr_alone: float,
-           psnr_sequence: Optional[float], stats_frame: int, stats_alone: dict, stats_sequence: Optional[dict],
-           coherent_alone: Optional[dict], coherent_sequence: Optional[dict]) -> None:
-    """Print the figures of both sides as one table, then the sequence's stages and its own warping error."""
-    n = len(frames.numbers)
-    print(f"clip {' '.join(args.clip)}: {n} frames ({frames.numbers[0]}-{frames.numbers[-1]}), "
-          f"{frames.width}x{frames.height} ({frames.width * frames.height / 1e6:.2f} MP), seed {args.seed}")
-    rep = sequence["report"] if sequence else None
-    per_frame = rep["per_frame"] if rep else []
-    seq_wall = statistics.median(sequence["walls"]) if sequence else None
-
-    def per(key):
-        return statistics.fmean(f[key] for f in per_frame) if per_frame else None
-
-    rows = [("seconds per frame (whole command, median)", statistics.median(alone["walls"]),
-             seq_wall / n if sequence else None),
-            ("seconds for the clip", sum(alone["walls"]) / args.runs, seq_wall),
-            ("peak memory MiB (largest child)", max(alone["peaks"]), max(sequence["peaks"]) if sequence else None),
-            ("strokes per frame (alive)", statistics.fmean(alone["strokes"]), per("alive")),
-            ("strokes born / died per frame", None, f"{per('born'):.0f} / {per('died'):.0f}" if per_frame else None),
-            ("mean PSNR dB against the source frames", psnr_alone, psnr_sequence)]
-    rows += [(f"stroke_stats frame {stats_frame}: {k}", stats_alone.get(k), (stats_sequence or {}).get(k))
-             for k in PICTURE_FIGURES]
-    rows += [(f"stroke_stats frame {stats_frame}: {k}", stats_alone.get(k), None) for k in STROKE_FIGURES]
-    if args.coherence_python:
-        rows += coherence_rows(coherent_alone, coherent_sequence)
-    print_table(rows)
-    if rep:
-        stages = rep["seconds"]
-        other = seq_wall - sum(stages.values())
+    print(f"clip {' '.join(args.clip)}: {n} frames ({numbers[0]}-{numbers[-1]}), {frames.width}x{frames.height} "
+          f"({frames.width * frames.height / 1e6:.2f} MP), seed {args.seed}, motion: {motion}")
+    print_table(table(frames, sides, stats_frame, motion))
+    if report:
+        wall = sides["sequence"]["clip_seconds"]
+        stages = report["seconds"]
         print("sequence stages, s per frame: " + ", ".join(f"{k} {v / n:.2f}" for k, v in stages.items())
-              + f", other {other / n:.2f}")
-        w = rep["warping_error"]
-        print(f"sequence report.json warping error ({rep['motion']}): footage {w['footage']:.3g}, painting "
+              + f", other {(wall - sum(stages.values())) / n:.2f}")
+        w = report["warping_error"]
+        print(f"sequence report.json warping error ({report['motion']}): footage {w['footage']:.3g}, painting "
               f"{w['painting']:.3g}, height {w['height']:.3g}; painting / footage {w['painting_ratio']:.2f}, "
               f"height / footage {w['height_ratio']:.2f}")
 
