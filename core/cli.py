@@ -19,7 +19,7 @@ from .errors import Cancelled, PaintReliefError, ParameterError
 from .figures.visualize import orientation_picture, partition_overlay
 from .files import budget, quiet, reading, signals, writing
 from .files.staging import output_folder
-from .params import STYLE_NAMES, Params, canonical_style
+from .params import STYLE_NAMES, Params, SequenceSettings, canonical_style
 from .progress import ConsoleProgress
 from .results import Analysis
 from .version import __version__
@@ -91,15 +91,44 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
 def _add_analysis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("input", help="photograph to read (PNG, JPEG, TIFF, EXR, ...)")
     p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR", help="folder for the outputs (created if missing)")
+    _add_partition_options(p)
+    p.add_argument("--mask", metavar="PATH", help="grayscale importance mask; white areas get smaller strokes (default: none)")
+    p.add_argument("--mask-strength", type=_float, default=DEFAULTS.mask_strength, metavar="K",
+                   help="k in E' = E (1 + k mask) (default: %(default)s)")
+    _add_run_options(p)
+
+
+def _add_partition_options(p: argparse.ArgumentParser) -> None:
+    """The stroke sizes and how finely detailed areas are split."""
     p.add_argument("--sizes", type=_sizes, default=DEFAULTS.stroke_sizes, metavar="64,32,16,8,4",
                    help="standard stroke widths in px at 1 megapixel, scaled with the image (default: %(default)s)")
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="0..1, how finely detailed areas are split; the stop energy is T_e = 16^(1 - X) times "
                         "the energy of a detailed area of the second-smallest stroke size (default: %(default)s)")
-    p.add_argument("--mask", metavar="PATH", help="grayscale importance mask; white areas get smaller strokes (default: none)")
-    p.add_argument("--mask-strength", type=_float, default=DEFAULTS.mask_strength, metavar="K",
-                   help="k in E' = E (1 + k mask) (default: %(default)s)")
-    _add_run_options(p)
+
+
+def _add_stroke_options(p: argparse.ArgumentParser) -> None:
+    """How the paper's strokes are laid: layers, brush, relief, colour, renderer, paths, details, normal map."""
+    p.add_argument("--layers", type=_int, default=DEFAULTS.layers, metavar="N",
+                   help="layers of strokes, each one pass over all grids (default: %(default)s)")
+    p.add_argument("--brush", default=DEFAULTS.brush, metavar="flat|round|filbert|PATH",
+                   help="a shipped brush or a grayscale PNG brush map, wide side across (default: %(default)s)")
+    p.add_argument("--height-mode", choices=("over", "accumulate"), default=DEFAULTS.height_mode,
+                   help="'over': each stroke's height covers what is below (the paper); "
+                        "'accumulate': paint piles up (default: %(default)s)")
+    p.add_argument("--alpha", type=_float, default=DEFAULTS.bristle_alpha, metavar="A",
+                   help="weight of each bristle's own colour in Eq. 5 (default: %(default)s)")
+    p.add_argument("--renderer", default=DEFAULTS.renderer, metavar="bristles|lines",
+                   help="huang11 strokes: bristles (the paper's brush) or lines (solid anti-aliased "
+                        "lines, Fig. 8c ablation) (default: %(default)s)")
+    p.add_argument("--path-rule", default=DEFAULTS.path_rule, choices=("natural", "literal"),
+                   help="how strokes stop: natural (a minimum length, the colour and turn tests at control "
+                        "points, an edge test at the brush's scale) or literal (the paper read literally: "
+                        "every curve sample from the anchor, for ablation) (default: %(default)s)")
+    p.add_argument("--no-details", dest="detail_pass", action="store_false",
+                   help="skip the detail pass that dots small highlights with the smallest brush")
+    p.add_argument("--normal-map", action="store_true",
+                   help="also write the height map's tangent-space normals (for renderers that shade a flat plane)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -118,16 +147,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Write color.exr (scene-linear RGB), height.exr, opacity.exr, orientation.exr, "
                     "painting.png, lit_paper.png, strokes.json and report.json (and normal.exr with --normal-map).")
     _add_analysis_options(paint_p)
-    paint_p.add_argument("--layers", type=_int, default=DEFAULTS.layers, metavar="N",
-                         help="layers of strokes, each one pass over all grids (default: %(default)s)")
-    paint_p.add_argument("--brush", default=DEFAULTS.brush, metavar="flat|round|filbert|PATH",
-                         help="a shipped brush or a grayscale PNG brush map, wide side across "
-                              "(default: %(default)s)")
-    paint_p.add_argument("--height-mode", choices=("over", "accumulate"), default=DEFAULTS.height_mode,
-                         help="'over': each stroke's height covers what is below (the paper); "
-                              "'accumulate': paint piles up (default: %(default)s)")
-    paint_p.add_argument("--alpha", type=_float, default=DEFAULTS.bristle_alpha, metavar="A",
-                         help="weight of each bristle's own colour in Eq. 5 (default: %(default)s)")
+    _add_stroke_options(paint_p)
     paint_p.add_argument("--method", default=DEFAULTS.method, metavar="huang11|hertzmann98",
                          help="huang11: the paper's painter; hertzmann98: the Hertzmann 1998 baseline "
                               "(default: %(default)s)")
@@ -139,19 +159,8 @@ def build_parser() -> argparse.ArgumentParser:
     paint_p.add_argument("--layout", default=DEFAULTS.layout, metavar="paper|hertzmann98",
                          help="huang11 stroke layout: paper (importance partition) or hertzmann98 "
                               "(layered grid ablation, Fig. 8b) (default: %(default)s)")
-    paint_p.add_argument("--renderer", default=DEFAULTS.renderer, metavar="bristles|lines",
-                         help="huang11 strokes: bristles (the paper's brush) or lines (solid anti-aliased "
-                              "lines, Fig. 8c ablation) (default: %(default)s)")
-    paint_p.add_argument("--path-rule", default=DEFAULTS.path_rule, choices=("natural", "literal"),
-                         help="how strokes stop: natural (a minimum length, the colour and turn tests at control "
-                              "points, an edge test at the brush's scale) or literal (the paper read literally: "
-                              "every curve sample from the anchor, for ablation) (default: %(default)s)")
-    paint_p.add_argument("--no-details", dest="detail_pass", action="store_false",
-                         help="skip the detail pass that dots small highlights with the smallest brush")
-    paint_p.add_argument("--normal-map", action="store_true",
-                         help="also write normal.exr, the height map's tangent-space normals (for renderers "
-                              "that shade a flat plane)")
     paint_p.set_defaults(run=run_paint)
+    _add_sequence_parser(sub)
     _add_light_parser(sub)
     _add_experiments_parser(sub)
     return parser
@@ -159,9 +168,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def params_from_args(args: argparse.Namespace) -> Params:
     """Params from parsed options (those the subcommand has), validated."""
-    fields = {"stroke_sizes": tuple(args.sizes), "detail": args.detail, "mask_strength": args.mask_strength,
-              "seed": args.seed, "max_megapixels": args.max_megapixels}
-    for option, name in (("layers", "layers"), ("brush", "brush"), ("height_mode", "height_mode"),
+    fields = {"stroke_sizes": tuple(args.sizes), "detail": args.detail, "seed": args.seed,
+              "max_megapixels": args.max_megapixels}
+    for option, name in (("mask_strength", "mask_strength"), ("layers", "layers"), ("brush", "brush"), ("height_mode", "height_mode"),
                          ("alpha", "bristle_alpha"), ("method", "method"), ("style", "style"),
                          ("layout", "layout"), ("renderer", "renderer"), ("path_rule", "path_rule"),
                          ("detail_pass", "detail_pass")):
@@ -207,6 +216,43 @@ def run_paint(args: argparse.Namespace, progress) -> None:
         paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask,
                    max_memory=max_memory(args), normal_map=args.normal_map,
                    notice=lambda text: _notice(progress, text))
+
+
+def _add_sequence_parser(sub) -> None:
+    p = sub.add_parser(
+        "sequence", help="paint an image sequence with strokes that live across frames",
+        description="Paint a shot frame after frame, carrying the strokes by the motion (Blender's Vector pass "
+                    "when every frame has one, else optical flow). Writes painting_####.png, color_####.exr, "
+                    "height_####.exr, opacity_####.exr and orientation_####.exr per frame (normal_####.exr with "
+                    "--normal-map), strokes.lives and report.json. Every frame is committed whole; the same "
+                    "command run again resumes after the last complete frame.")
+    p.add_argument("input", nargs="+", metavar="INPUT",
+                   help="a folder of frames, a pattern with # for the frame number (render/frame_####.exr), or "
+                        "frame files in order (PNG, JPEG, TIFF, EXR, Blender multilayer EXR)")
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
+                   help="folder for the outputs (created if missing)")
+    p.add_argument("--frames", metavar="A-B", help="paint frames A to B only (A-, -B and A also work)")
+    p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
+                   help="frames a stroke takes to fade in when born and out when it dies (default: %(default)s)")
+    _add_partition_options(p)
+    _add_stroke_options(p)
+    _add_run_options(p)
+    p.set_defaults(run=run_sequence)
+
+
+def run_sequence(args: argparse.Namespace, progress) -> None:
+    """The ``sequence`` subcommand: frames found and checked from their headers before any painting."""
+    from .files.frames import find_frames
+    from .heap import reused_heap
+    from .sequence.shot import paint_sequence
+
+    params = params_from_args(args)
+    settings = SequenceSettings(args.fade_frames, args.normal_map).validate()
+    frames = find_frames(args.input, args.frames, params.max_megapixels)
+    budget.check_stroke_sizes(params, frames.height, frames.width)
+    budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory(args))
+    with reused_heap():
+        paint_sequence(frames, args.output, params, settings, progress=progress)
 
 
 def _notice(console, text: str) -> None:
@@ -387,6 +433,9 @@ def _folder_phrase(args: argparse.Namespace) -> str:
 
 def _interrupted_message(exc: "signals.Interrupted", args: argparse.Namespace) -> str:
     """A true sentence about what a signal left behind."""
+    if args.command == "sequence":
+        return (f"Stopped by {exc.name}; every frame in {args.output} is complete, and the same command goes on "
+                f"after the last of them.")
     if exc.committed:
         return f"Stopped by {exc.name} after every output was written to {exc.committed}."
     return f"Stopped by {exc.name}; {_folder_phrase(args)} was left as it was."

@@ -244,3 +244,22 @@ def scaled_sizes(params: Params, height: int, width: int) -> Tuple[int, ...]:
     scale = math.sqrt(height * width / (params.size_reference_megapixels * 1e6))
     sizes = sorted({max(2, int(round(s * scale))) for s in params.stroke_sizes}, reverse=True)
     return tuple(sizes)
+
+
+@dataclass(frozen=True)
+class SequenceSettings:
+    """What painting a sequence adds to ``Params`` (ALGORITHM §9).
+
+    fade_frames: K, 1 to 100, the frames a stroke takes to fade in when born and out when it dies.
+    normal_map: also write each frame's normal map.
+    """
+
+    fade_frames: int = 3
+    normal_map: bool = False
+
+    def validate(self) -> "SequenceSettings":
+        """Return self; ParameterError (one sentence) for a setting out of range."""
+        fade = self.fade_frames
+        if not (isinstance(fade, int) and not isinstance(fade, bool) and 1 <= fade <= 100):
+            raise ParameterError(f"The fade must be a whole number of frames from 1 to 100, got {_short(fade)}.")
+        return self

@@ -326,3 +326,18 @@ def test_multilayer_exr_frames_are_found_and_sized_from_their_combined_part(tmp_
                                                            ("ViewLayer.Vector", "XYZW", picture(n, c=4))])
     found = frames.find_frames([os.fspath(tmp_path / "frame_####.exr")])
     assert (found.numbers, found.width, found.height) == ((1, 2), W, H)
+
+
+def test_the_motion_source_is_the_vector_pass_only_when_every_frame_has_one(tmp_path):
+    vector = picture(4, c=4)
+    with_pass = [write_multilayer(tmp_path / f"frame_000{n}.exr", [("ViewLayer.Combined", "RGBA", combined_pixels(n)),
+                                                                  ("ViewLayer.Vector", "XYZW", vector)])
+                 for n in (1, 2)]
+    without = write_multilayer(tmp_path / "frame_0003.exr", [("ViewLayer.Combined", "RGBA", combined_pixels(3))])
+    pngs = png_frames(tmp_path / "png", ["a_0001.png", "a_0002.png"])
+    assert frames.carry_vector_passes(with_pass) is True
+    assert frames.carry_vector_passes(pngs + [without]) is False
+    with pytest.raises(InputError) as caught:
+        frames.carry_vector_passes(with_pass + [without])
+    assert str(caught.value) == (f"The frame {without} has no Vector pass but {with_pass[0]} has one: render every "
+                                 f"frame with the Vector pass, or none.")

@@ -27,6 +27,7 @@ CORE_LAYERS = [
     ("strokes", {"core.strokes"}),
     ("measures", {"core.measures"}),
     ("methods", {"core.methods"}),
+    ("sequence", {"core.sequence"}),
     ("figures", {"core.figures"}),
     ("api", {"core.api"}),
     ("evaluation", {"core.evaluation"}),

@@ -6,7 +6,8 @@ painting's folder of maps and its report (``export``), the all-or-nothing
 commit of a folder's outputs (``staging``, with its folder lock and signal
 handling), checks of a painted folder's maps (``maps``), the memory and
 size budget of an input (``budget``), the frames of a sequence
-(``frames``) and quieting the image libraries' own messages (``quiet``).
+(``frames``), the lives of a sequence's strokes (``lives``) and quieting
+the image libraries' own messages (``quiet``).
 """
 
 from .budget import check, check_bomb, check_stroke_sizes, estimate_bytes, parse_size

@@ -15,22 +15,23 @@ from .. import tuning
 from ..colour import srgb_to_linear
 from ..errors import InputError
 from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
+from ..params import Params
 from ..results import Painting
 from ..version import __version__
 from . import quiet, reading, writing
 
 
-def map_attributes(painting: Painting) -> dict:
-    """EXR header attributes that say how a painting was made.
+def map_attributes(params: Params) -> dict:
+    """EXR header attributes that say how a painting was made with ``params``.
 
     The seed is stored as decimal text: header integers hold only 32 bits and
     seeds go up to 2^63 - 1.
     """
     return {
         "paint_relief:version": __version__,
-        "paint_relief:seed": str(painting.params.seed),
-        "paint_relief:height_mode": painting.params.height_mode,
-        "paint_relief:params": json.dumps(painting.params.to_dict(), sort_keys=True),
+        "paint_relief:seed": str(params.seed),
+        "paint_relief:height_mode": params.height_mode,
+        "paint_relief:params": json.dumps(params.to_dict(), sort_keys=True),
     }
 
 
@@ -118,6 +119,25 @@ def ensure_normal_map(folder: Path) -> Path:
     return path
 
 
+def map_tasks(folder: Path, suffix: str, colour: np.ndarray, height: np.ndarray, opacity: np.ndarray,
+              orientation: np.ndarray, attributes: dict) -> list:
+    """The writers of a painting's maps into ``folder``, each a task for ``run_all``: painting<suffix>.png (8-bit
+    sRGB), color<suffix>.exr (scene-linear RGB), height, opacity and orientation<suffix>.exr (Y), half floats with
+    ``attributes`` in their headers. colour: (H, W, 3) sRGB [0, 1]; height, opacity, orientation: (H, W).
+    ``suffix`` is "" for a still, "_0016" for frame 16 of a sequence."""
+    linear = writing.RowBlocks(colour.shape, lambda y0, y1: srgb_to_linear(colour[y0:y1]))
+    return [
+        lambda: writing.write_png(folder / f"painting{suffix}.png", colour),
+        lambda: writing.write_exr(folder / f"color{suffix}.exr", linear, half=True, attributes=attributes),
+        lambda: writing.write_exr(folder / f"height{suffix}.exr", height, channels=("Y",), half=True,
+                                  attributes=attributes),
+        lambda: writing.write_exr(folder / f"opacity{suffix}.exr", opacity, channels=("Y",), half=True,
+                                  attributes=attributes),
+        lambda: writing.write_exr(folder / f"orientation{suffix}.exr", orientation, channels=("Y",), half=True,
+                                  attributes=attributes),
+    ]
+
+
 def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False, pages: int = 1) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
@@ -142,25 +162,16 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     """
     folder = Path(folder)
     t0 = time.perf_counter()
-    attributes = map_attributes(painting)
+    attributes = map_attributes(painting.params)
     colour, height = painting.colour, painting.height
     shape = colour.shape
-    linear = writing.RowBlocks(shape, lambda y0, y1: srgb_to_linear(colour[y0:y1]))
     lit = rows_with_halo(shape, lambda a, b: paper_lighting(colour[a:b], height[a:b], painting.orientation[a:b],
                                                             PAPER_STRENGTH), 2)
-    tasks = [
-        lambda: writing.write_png(folder / "lit_paper.png", lit),
-        lambda: writing.write_png(folder / "painting.png", colour),
-        lambda: writing.write_exr(folder / "color.exr", linear, half=True, attributes=attributes),
-        lambda: writing.write_exr(folder / "height.exr", height, channels=("Y",), half=True, attributes=attributes),
-        lambda: writing.write_exr(folder / "opacity.exr", painting.opacity, channels=("Y",), half=True,
-                             attributes=attributes),
-        lambda: writing.write_exr(folder / "orientation.exr", painting.orientation, channels=("Y",), half=True,
-                             attributes=attributes),
-        lambda: writing.write_json(folder / "strokes.json",
-                              {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
-                              indent=None),
-    ]
+    tasks = [lambda: writing.write_png(folder / "lit_paper.png", lit)]
+    tasks += map_tasks(folder, "", colour, height, painting.opacity, painting.orientation, attributes)
+    tasks.append(lambda: writing.write_json(folder / "strokes.json",
+                                            {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
+                                            indent=None))
     with quiet.captured():          # one capture for all the writers (library messages go to no terminal)
         run_all(tasks)
     files = file_digests(folder, PAINTING_FILES[:-1])

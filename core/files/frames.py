@@ -257,3 +257,17 @@ def read_vector_pass(path: PathLike) -> Optional[np.ndarray]:
     ``reading.read_pass``.
     """
     return reading.read_pass(path, *VECTOR_PASS, role="frame")
+
+
+def carry_vector_passes(paths: Sequence[pathlib.Path]) -> bool:
+    """Whether every frame holds Blender's Vector pass (its motion), from the headers; False when none does.
+
+    InputError naming the first frame without one when only some do: a sequence's motion comes from one source.
+    """
+    holding = [reading.holds_pass(path, *VECTOR_PASS, role="frame") for path in paths]
+    if all(holding) or not any(holding):
+        return all(holding)
+    first_with = paths[holding.index(True)]
+    first_without = paths[holding.index(False)]
+    raise InputError(f"The frame {first_without} has no Vector pass but {first_with} has one: render every frame "
+                     f"with the Vector pass, or none.")

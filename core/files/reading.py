@@ -445,6 +445,14 @@ def read_pass(path: PathLike, pass_name: str, letters: str, role: str = "input")
     return data
 
 
+def holds_pass(path: PathLike, pass_name: str, letters: str, role: str = "input") -> bool:
+    """Whether ``path`` holds Blender's pass ``pass_name`` with channels ``letters`` (``read_pass``), from its
+    headers alone; InputError as ``read_exr``."""
+    path = local_path(path, role)
+    with _opened(path, float("inf"), role=role) as (inp, _, _printed):
+        return _find_pass(inp, pass_name, letters) is not None
+
+
 def read_attributes(path: PathLike) -> Dict[str, object]:
     """The header attributes of an image (name -> Python value), without reading its pixels; InputError as read_exr."""
     with _opened(pathlib.Path(path), float("inf")) as (_, spec, _printed):

@@ -69,7 +69,7 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
                   sources: Dict[int, ColourSources], params: Params, layer: int, stage: Stage,
-                  recorder: Optional[StrokeRecorder] = None) -> List[Stroke]:
+                  recorder: Optional[StrokeRecorder] = None, eligible: Optional[np.ndarray] = None) -> List[Stroke]:
     """The detail pass: one dab of the smallest brush on each point highlight the layers missed (``core.strokes.details``).
 
     It reads the photograph ``image`` (H, W, 3) itself, not the bilateral
@@ -79,12 +79,15 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
     layers (anchors at least 2 smallest + 1 px apart, so no dab paints
     another's anchor). Dabs are laid with the round brush, whatever the
     layers' brush: a flat brush's dab is a dash, and a star is a dot.
-    ``recorder`` (optional) keeps the dabs laid.
+    ``recorder`` (optional) keeps the dabs laid; ``eligible`` (optional (H, W) bool) keeps only the dabs
+    anchored where it is True (a sequence's births).
     """
     smallest = min(analysis.sizes)
     anchors = detail_anchors(image, canvas.colour,
                              size_map(analysis.grids, analysis.grid_sizes, canvas.height.shape),
                              {s: sources[s].edges for s in analysis.sizes}, smallest, params.difference_threshold)
+    if eligible is not None:
+        anchors = anchors[eligible[anchors[:, 1], anchors[:, 0]]]
     stage.report(0.0, f"Details: {len(anchors)} strokes")
     dab = dataclasses.replace(params, min_length=0, max_length=0)   # the anchor alone: a dab, no path
     tip = brush_tip(load_brush("round"), smallest, params.transparency)
@@ -96,10 +99,12 @@ def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,
 
 
 def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[int, ColourSources],
-                 params: Params, stage: Stage, recorder: Optional[StrokeRecorder] = None) -> tuple:
+                 params: Params, stage: Stage, recorder: Optional[StrokeRecorder] = None,
+                 eligible: Optional[np.ndarray] = None) -> tuple:
     """Run every layer over every grid, largest first, one round per stroke size (ALGORITHM §5, "Speed").
 
-    Returns (strokes, strokes per layer); see ``paint_layer``.
+    Returns (strokes, strokes per layer); see ``paint_layer``. eligible: optional (H, W) bool, anchors are
+    chosen only where it is True (``choose_anchors``; a sequence's births, ALGORITHM §9).
     """
     order = painting_order(analysis.grids, analysis.grid_sizes)
     grids = analysis.grids[order]
@@ -108,7 +113,8 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
     per_layer: List[int] = []
     for layer in range(params.layers):
         laid = paint_layer(canvas, layer, grids, runs, analysis.orientation, tips, sources, params,
-                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)), recorder)
+                           layer_progress(stage, layer, params.layers, len(runs), len(strokes)), recorder,
+                           eligible)
         strokes += laid
         per_layer.append(len(laid))
     return strokes, per_layer
@@ -125,7 +131,7 @@ def layer_progress(stage: Stage, layer: int, layers: int, runs: int, before: int
 
 def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orientation: np.ndarray, tips: dict,
                 sources: Dict[int, ColourSources], params: Params, report,
-                recorder: Optional[StrokeRecorder] = None) -> List[Stroke]:
+                recorder: Optional[StrokeRecorder] = None, eligible: Optional[np.ndarray] = None) -> List[Stroke]:
     """One layer over (N, 4) ``grids`` in painting order, one round per run (size, first, stop) of ``runs``.
 
     The grids of one size are a run (``painting_order``): their anchors are
@@ -135,7 +141,8 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
     is left to the next smaller brush: its anchor, with its stream, opens
     that size's run if it is still bare when the run begins (``still_bare``),
     and is judged again there. report(runs done, strokes laid) is called after
-    each run; ``recorder`` (optional) keeps the strokes laid. Returns the layer's strokes.
+    each run; ``recorder`` (optional) keeps the strokes laid; ``eligible`` (optional) as for ``choose_anchors``.
+    Returns the layer's strokes.
     """
     draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
     strokes: List[Stroke] = []
@@ -143,7 +150,7 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
     for done, (size, first, stop) in enumerate(runs):
         anchors, chosen, by_difference = choose_anchors(
             grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges, params.coverage_threshold,
-            params.difference_threshold, draws[first:stop, 0])
+            params.difference_threshold, draws[first:stop, 0], eligible)
         bare = still_bare(waiting[0], canvas.opacity, params.coverage_threshold)
         anchors = np.concatenate([waiting[0][bare], anchors[chosen]])
         run_draws = np.concatenate([waiting[1][bare], draws[first:stop][chosen, 1:]])

@@ -12,9 +12,9 @@ pixels, [..., 0] = x (right), [..., 1] = y (down).
 from .measures import mean_over_pairs, normalise, still_pixels, stillness, value_range, warping_error
 from .optical_flow import optical_flow
 from .vector_pass import backward_motion, forward_motion, motion_pair
-from .visibility import motion_boundary, round_trip_consistent, visible_in_both
+from .visibility import comes_back, motion_boundary, round_trip_consistent, visible_in_both
 from .warp import bilinear, inside_frame, pixel_positions, warp_back
 
-__all__ = ["backward_motion", "bilinear", "forward_motion", "inside_frame", "mean_over_pairs", "motion_boundary",
+__all__ = ["backward_motion", "bilinear", "comes_back", "forward_motion", "inside_frame", "mean_over_pairs", "motion_boundary",
            "motion_pair", "normalise", "optical_flow", "pixel_positions", "round_trip_consistent", "still_pixels", "stillness",
            "value_range", "visible_in_both", "warp_back", "warping_error"]

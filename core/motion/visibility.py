@@ -66,6 +66,15 @@ def visible_in_both(forward: np.ndarray, backward: np.ndarray) -> np.ndarray:
     Returns bool (H, W): in frame t+1, round trip consistent and off motion
     boundaries (module docstring).
     """
+    return comes_back(forward, backward) & ~motion_boundary(forward)
+
+
+def comes_back(forward: np.ndarray, backward: np.ndarray) -> np.ndarray:
+    """Pixels of frame t that land inside frame t+1 and that the backward motion brings back where they started.
+
+    forward: float32 (H, W, 2) w_f, frame t -> t+1; backward: float32 (H, W, 2) w_b, frame t+1 -> t, in px.
+    Returns bool (H, W): ``visible_in_both`` without the motion-boundary test.
+    """
     motion = np.asarray(forward, dtype=np.float32)
     backward_there, inside = warp_back(backward, motion)
-    return inside & round_trip_consistent(motion, backward_there) & ~motion_boundary(motion)
+    return inside & round_trip_consistent(motion, backward_there)

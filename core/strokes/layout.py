@@ -58,7 +58,8 @@ class ChosenAnchors(NamedTuple):
 
 
 def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
-                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> ChosenAnchors:
+                   coverage_threshold: float, difference_threshold: float, ties: np.ndarray,
+                   eligible: np.ndarray = None) -> ChosenAnchors:
     """This layer's anchors (x, y) in N (N, 4) grids (x0, y0, x1, y1) of one stroke size, all at once.
 
     coverage: (H, W) in [0, 1], how fully each pixel is painted (the painter
@@ -72,7 +73,9 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
     1. p_min, the least-covered pixel, if its coverage < T_c;
     2. else p_max, the pixel whose canvas colour differs most from the
        reference, if that Euclidean RGB distance > T_d;
-    3. else no stroke. Ties (e.g. a whole grid still at coverage 0) go to
+    3. else no stroke. Only the pixels where the (H, W) bool ``eligible`` is True
+       take part when it is given (a sequence's births, ALGORITHM §9): a grid
+       with none gets no stroke. Ties (e.g. a whole grid still at coverage 0) go to
        tied pixel floor(u k) of the k tied ones in row-major order, u being
        the grid's ``ties`` (N,) uniform number in [0, 1), so anchors do not
        line up on grid corners.
@@ -88,18 +91,22 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
     workers = worker_count()
     count = max(workers, len(bounded_runs(areas, max(1, tuning.ANCHOR_CHUNK_PIXELS // workers))))
     parts = run_all(lambda run: _choose_anchors(grids[slice(*run)], coverage, colour, reference, coverage_threshold,
-                                                difference_threshold, ties[slice(*run)]),
+                                                difference_threshold, ties[slice(*run)], eligible),
                     balanced_runs(areas, count, tuning.ANCHOR_LEAST_PIXELS))
     return ChosenAnchors(*(np.concatenate(arrays) for arrays in zip(*parts, strict=True)))
 
 
 def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
-                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray) -> ChosenAnchors:
+                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray,
+                    eligible: np.ndarray = None) -> ChosenAnchors:
     """``choose_anchors`` of a chunk of grids."""
     n = len(grids)
     x, y, starts = grid_pixels(grids)
     owner = np.repeat(np.arange(n), np.diff(starts))
     cov = coverage[y, x]
+    if eligible is not None:
+        left_out = ~eligible[y, x]
+        cov = np.where(left_out, np.float32(np.inf), cov)
     low = np.minimum.reduceat(cov, starts[:-1])
     cover = low < coverage_threshold
     candidate = cover[owner] & (cov == low[owner])
@@ -111,6 +118,8 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
         diff -= reference.sample(xs.astype(np.float32), ys.astype(np.float32))
         dist2 = np.full(len(x), -np.inf, np.float32)
         dist2[rest] = np.einsum("ij,ij->i", diff, diff)
+        if eligible is not None:
+            dist2[left_out] = -np.inf
         high = np.maximum.reduceat(dist2, starts[:-1])
         chosen |= ~cover & (high > np.float32(difference_threshold * difference_threshold))
         candidate |= rest & (dist2 == high[owner])

@@ -38,3 +38,15 @@ def visit_uniforms(seed: int, layer: int, visits: np.ndarray, count: int) -> np.
         base = _mix(key ^ (np.asarray(visits, np.uint64).reshape(-1, 1) * _GOLDEN))
         draws = _mix(base + np.arange(1, count + 1, dtype=np.uint64)[None, :] * _GOLDEN)
     return (draws >> np.uint64(11)).astype(np.float64) * (1.0 / (1 << 53))
+
+
+def frame_seed(seed: int, frame: int) -> int:
+    """The seed of the strokes born on a sequence's ``frame`` (0-based index >= 0; ALGORITHM §9): ``seed`` itself on
+    frame 0, which is painted as a still, else a number in [0, 2^63) mixed from (seed, frame). A stroke's stream is
+    then keyed by (seed, birth frame, layer, birth index), whatever frames were painted before it in this process."""
+    if frame == 0:
+        return int(seed)
+    with np.errstate(over="ignore"):
+        key = _mix(np.array([int(seed) & _MASK], np.uint64) + _GOLDEN)
+        key = _mix(key ^ (np.array([int(frame) & _MASK], np.uint64) * _MIX_1))
+    return int(key[0] >> np.uint64(1))

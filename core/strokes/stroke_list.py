@@ -123,10 +123,7 @@ class StrokeList:
         """The list of some of the strokes: ``index`` a slice, a (K,) int array (in its order) or an (N,) bool
         mask (in the list's order)."""
         picked = np.arange(len(self))[index]
-        counts = np.diff(self.bristle_starts)[picked]
-        starts = np.zeros(len(picked) + 1, np.int64)
-        np.cumsum(counts, out=starts[1:])
-        entries = np.repeat(self.bristle_starts[picked] - starts[:-1], counts) + np.arange(starts[-1])
+        entries, starts = bristle_entries(self.bristle_starts, picked)
         return StrokeList(self.layer[picked], self.size[picked], self.brush[picked], self.anchor[picked],
                           self.control[picked], self.control_count[picked], self.first[picked], self.last[picked],
                           self.angle[picked], self.bristles[entries], starts, self.anchor_colour[picked],
@@ -155,6 +152,16 @@ class StrokeList:
                          self.anchor_colour[first:stop],
                          PlannedPaths(samples, self.first[first:stop], self.last[first:stop], per_segment),
                          self.angle[first:stop], None, None if np.all(contact == 1) else contact)
+
+
+def bristle_entries(bristle_starts: np.ndarray, picked: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """The bristles of some strokes of a list: ``bristle_starts`` (N + 1,) the list's, ``picked`` (K,) int stroke
+    indices. Returns (entries (B,) int64, the picked strokes' bristle rows in order; starts (K + 1,) int64, where
+    each picked stroke's bristles begin among them)."""
+    counts = np.diff(bristle_starts)[picked]
+    starts = np.zeros(len(picked) + 1, np.int64)
+    np.cumsum(counts, out=starts[1:])
+    return np.repeat(bristle_starts[picked] - starts[:-1], counts) + np.arange(starts[-1]), starts
 
 
 def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int], BrushTip], params: Params) -> None:

@@ -1,0 +1,1 @@
+"""Sequences: painting a shot with strokes that live across frames (ALGORITHM §9)."""

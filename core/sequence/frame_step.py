@@ -1,0 +1,155 @@
+"""One frame of a sequence from the one before: carry, death, birth, fade and order (ALGORITHM §9).
+
+Frame 0 is painted as a still. Each later frame carries the strokes of the
+frame before by the motion (``carry``), lays the settled ones at full
+contact on a judging canvas, and runs the still painter's layers and detail
+pass against it where the carried painting leaves the canvas bare or wrong
+(``birth_places``): there strokes are born, streams keyed by (seed, frame,
+layer, visit). The frame shown is every stroke laid in order at its fade
+contact; when none is fading, that is the judging canvas itself.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Dict, NamedTuple, Tuple
+
+import numpy as np
+from scipy import ndimage
+
+from ..analysis.run import analyze
+from ..methods.huang11 import paint, paint_details, paint_layers
+from ..motion.warp import bilinear, pixel_positions
+from ..params import Params
+from ..progress import Stage
+from ..strokes.brush import BrushTip, brush_tip, load_brush, tip_cache
+from ..strokes.canvas import Canvas
+from ..strokes.details import size_map
+from ..strokes.streams import frame_seed
+from ..strokes.stroke import colour_sources, detail_sources
+from ..strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeRecorder, lay_strokes
+from .carry import carry, recoloured
+from .living import LivingStrokes
+
+
+class FrameMotion(NamedTuple):
+    """The motion between frames t and t+1 (``core.motion``).
+
+    ``visible`` is ALGORITHM §9's visibility, which the measures use. The strokes' life uses the round trip
+    alone (``kept``, ``seen_before``): a flow's motion boundaries on texture (grass, foliage) are speckle over a
+    tenth of the frame, not occlusions, and the tearing a true boundary means is the stretch and fold tests' work.
+    """
+
+    forward: np.ndarray         # float32 (H, W, 2) px, frame t's pixels to frame t+1
+    backward: np.ndarray        # float32 (H, W, 2) px, frame t+1's pixels to frame t
+    visible: np.ndarray         # bool (H, W), frame t's pixels visible in both frames (``visible_in_both``)
+    kept: np.ndarray            # bool (H, W), frame t's pixels that land in frame t+1 and come back by w_b
+    seen_before: np.ndarray     # bool (H, W), frame t+1's pixels that land in frame t and come back by w_f
+
+
+class PaintedFrame(NamedTuple):
+    """A painted frame and what the next frame needs of it."""
+
+    living: LivingStrokes       # its strokes in laying order
+    canvas: Canvas              # the frame as shown (colour clipped to [0, 1])
+    orientation: np.ndarray     # float32 (H, W) radians [0, pi), the frame's orientation field (Eq. 3)
+    error: np.ndarray           # float32 (H, W) the canvas's distance from the reference (``colour_distance``)
+                                #   where its strokes were laid, carried with the motion since
+    opacity: np.ndarray         # float32 (H, W) [0, 1] the judging canvas's opacity
+    next_ident: int             # the identity the next stroke born gets
+    born: int                   # strokes born on this frame
+    died: int                   # strokes gone since the frame before (occluded, or faded out)
+
+
+def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stage) -> PaintedFrame:
+    """Frame 0: the still painting of (H, W, 3) sRGB [0, 1] ``image``, its strokes at full contact."""
+    painting = paint(image, params, stage.progress, stage.cancel, record_strokes=True)
+    living = LivingStrokes.born(painting.stroke_list, 0, 0, fade_frames, fade_frames)
+    canvas = Canvas(painting.colour, painting.coverage, painting.height, painting.opacity)
+    return PaintedFrame(living, canvas, painting.orientation, colour_distance(painting.colour, painting.analysis.reference),
+                        painting.opacity, len(living), len(living), 0)
+
+
+def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
+               stage: Stage) -> PaintedFrame:
+    """Frame ``index`` (>= 1) of (H, W, 3) sRGB [0, 1] ``image`` from the ``previous`` frame and the ``motion``
+    between them."""
+    analysis = analyze(image, params, cancel=stage.cancel)
+    sources = colour_sources(analysis.reference, analysis.sizes, params)
+    shape = image.shape[:2]
+    carried = carry(previous.living, motion.forward, motion.kept,
+                    size_map(analysis.grids, analysis.grid_sizes, shape), analysis.sizes,
+                    params.orientation_threshold)
+    living = recoloured(carried.living, {s: sources[s].anchor for s in analysis.sizes}, detail_sources(image).anchor)
+    stage.check()
+    tips = frame_tips(params, analysis.sizes)
+    judging = Canvas.blank(shape, params.canvas_colour)
+    lay_strokes(judging, living.settled().strokes, tips, params)
+    came_from = pixel_positions(*shape) + motion.backward
+    laid_error = bilinear(previous.error, came_from)
+    eligible = birth_places(judging, analysis.reference, laid_error, bilinear(previous.opacity, came_from),
+                            motion.seen_before, params)
+    recorder = StrokeRecorder()
+    births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
+    paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
+                 stage.sub(0.0, 0.9), recorder, eligible)
+    if params.detail_pass:
+        paint_details(judging, image, analysis, sources, births, params.layers, stage.sub(0.9, 1.0), recorder,
+                      eligible)
+    born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
+    frame = LivingStrokes.joined([living, born])
+    np.clip(judging.colour, 0.0, 1.0, out=judging.colour)
+    error = np.where(eligible, colour_distance(judging.colour, analysis.reference), laid_error)
+    shown = judging if frame.at_full_contact() else laid(frame, tips, params, shape)
+    return PaintedFrame(frame, shown, analysis.orientation, error, judging.opacity,
+                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded)
+
+
+def birth_places(judging: Canvas, reference: np.ndarray, laid_error: np.ndarray, opacity_before: np.ndarray,
+                 seen_before: np.ndarray, params: Params) -> np.ndarray:
+    """(H, W) bool: where frame t+1's grids may get new strokes, the carried strokes laid on ``judging``.
+
+    Pixels not ``seen_before`` (disoccluded); bare (opacity below T_c) where frame t's ``opacity_before`` was not and
+    was more than BARED higher; or whose canvas colour is more than T_d further from the ``reference`` (H, W, 3)
+    than it was where its strokes were laid (``laid_error``, carried with the motion, so a slow drift is caught
+    as surely as a jump). Frame t's maps are taken where each pixel came from. Where the carried painting is as bare
+    or as wrong as when it was laid, the still painter left it so: nothing is born.
+    """
+    bared = ((judging.opacity < params.coverage_threshold) & (opacity_before >= params.coverage_threshold)
+             & (opacity_before - judging.opacity > BARED))
+    error = colour_distance(judging.colour, reference)
+    return ~seen_before | bared | (error > laid_error + np.float32(params.difference_threshold))
+
+
+BARED = 0.25
+"""A pixel is newly bare when its opacity fell below T_c by more than this since the frame before: an opacity near
+T_c re-sampled a fraction of a pixel away is not a gap."""
+
+
+ERROR_SMOOTHING = 1.0
+"""px: the Gaussian sigma over which a canvas's error is averaged before frames are compared, so that a pixel's
+aliasing (an edge re-sampled a fraction of a pixel away) is not taken for a wrong canvas."""
+
+
+def colour_distance(colour: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """(H, W) float32: the Euclidean RGB distance between (H, W, 3) ``colour`` and ``reference``, sRGB [0, 1],
+    averaged by a Gaussian of ERROR_SMOOTHING px."""
+    diff = colour - reference
+    return ndimage.gaussian_filter(np.sqrt(np.einsum("ijk,ijk->ij", diff, diff)), ERROR_SMOOTHING, mode="nearest")
+
+
+def frame_tips(params: Params, sizes) -> Dict[Tuple[int, int], BrushTip]:
+    """{(brush, size): BrushTip} of a sequence's strokes: the painting's brush at every standard size (px) and
+    the round brush at the smallest (the detail pass's dabs)."""
+    tips = {(PAINTING_BRUSH, size): tip for size, tip in tip_cache(load_brush(params.brush), sizes,
+                                                                    params.transparency).items()}
+    tips[ROUND_BRUSH, min(sizes)] = brush_tip(load_brush("round"), min(sizes), params.transparency)
+    return tips
+
+
+def laid(frame: LivingStrokes, tips: Dict[Tuple[int, int], BrushTip], params: Params, shape: tuple) -> Canvas:
+    """A blank (H, W) canvas with the frame's strokes laid in order at their contact, colour clipped to [0, 1]."""
+    canvas = Canvas.blank(shape, params.canvas_colour)
+    lay_strokes(canvas, frame.strokes, tips, params)
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)
+    return canvas

@@ -1,0 +1,65 @@
+"""What a sequence's next frame needs of the last frame committed, kept in the output folder so a run can resume.
+
+The state file is written with each frame's files and committed with them,
+so it always belongs to the last complete frame: its strokes (the
+``StrokeList`` and each stroke's life), the judging canvas's error and bare
+maps, the next stroke identity, the frame's index and the length of the
+lives file after it. Arrays are stored as they are in memory (NumPy's .npz,
+no pickling), so a resumed run continues with the same bytes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import zipfile
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from ..errors import InputError
+from ..strokes.stroke_list import StrokeList
+from .frame_step import PaintedFrame
+from .living import LivingStrokes
+
+STATE_FILE = ".sequence-state.npz"
+
+_LIST_FIELDS = [field.name for field in dataclasses.fields(StrokeList)]
+_LIFE_FIELDS = ["ident", "birth", "level", "dying", "offsets", "birth_length"]
+
+
+class SavedState(NamedTuple):
+    """A sequence's state after its frame ``index`` (0-based)."""
+
+    frame: PaintedFrame         # without canvas and orientation (None): lay ``frame.living`` to see the frame
+    index: int
+    lives_bytes: int
+
+
+def save_state(path: Path, frame: PaintedFrame, index: int, lives_bytes: int) -> None:
+    """Write the state after frame ``index`` (0-based) to ``path`` (in a staging folder: it is committed with the
+    frame's files); ``lives_bytes``: the lives file's length after that frame."""
+    living = frame.living
+    arrays = {f"list_{name}": getattr(living.strokes, name) for name in _LIST_FIELDS}
+    arrays.update({f"life_{name}": getattr(living, name) for name in _LIFE_FIELDS})
+    arrays.update(error=frame.error, opacity=frame.opacity,
+                  counters=np.array([index, lives_bytes, frame.next_ident, living.fade_frames, frame.born,
+                                     frame.died], np.int64))
+    with open(path, "wb") as stream:
+        np.savez(stream, **arrays)
+
+
+def load_state(path: Path) -> SavedState:
+    """The state written by ``save_state``; InputError naming the file when it cannot be read."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {name: data[name] for name in data.files}
+        strokes = StrokeList(**{name: arrays[f"list_{name}"] for name in _LIST_FIELDS})
+        index, lives_bytes, next_ident, fade_frames, born, died = (int(v) for v in arrays["counters"])
+        living = LivingStrokes(strokes, **{name: arrays[f"life_{name}"] for name in _LIFE_FIELDS},
+                               fade_frames=fade_frames)
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
+        raise InputError(f"The sequence state {path} cannot be read ({exc}); paint the sequence into a new "
+                         f"folder.") from exc
+    return SavedState(PaintedFrame(living, None, None, arrays["error"], arrays["opacity"], next_ident, born, died),
+                      index, lives_bytes)

@@ -1,0 +1,252 @@
+"""Strokes that live across frames (ALGORITHM §9): carry, birth, stillness, resume and refusals of ``core sequence``.
+
+Frames are made here with a known motion: a photograph moved by a sub-pixel
+translation (every pixel of frame t+1 is frame t's from d px away, sampled
+from the larger photograph, so what enters at the border is real content),
+a still clip (one picture repeated) and a square entering a still
+background. The painter is given the true motion where the test is about
+what strokes do with it, and finds it itself (optical flow) where the test
+is about the command.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from core.files.frames import find_frames
+from core.files.reading import read_exr, read_image
+from core.files.writing import write_png
+from core.motion import comes_back, visible_in_both
+from core.motion.warp import bilinear, pixel_positions
+from core.params import Params, SequenceSettings
+from core.progress import Stage
+from core.sequence.frame_step import FrameMotion, first_frame, next_frame
+from core.sequence.shot import paint_sequence
+from core.strokes.stroke_list import PAINTING_BRUSH
+
+ROOT = Path(__file__).resolve().parents[1]
+PHOTO = ROOT / "sample_scenes" / "chelsea.png"
+NO_STAGE = Stage(None, None)
+
+
+def moved_photo(shape: tuple, offset: tuple) -> np.ndarray:
+    """An (H, W) = ``shape`` window of the sample photograph whose pixel x shows the photograph at x + ``offset``
+    (x, y) px, sampled bilinearly: the window moved by -offset."""
+    photo = read_image(PHOTO)
+    h, w = shape
+    return np.clip(bilinear(photo, pixel_positions(h, w) + np.float32(offset) + np.float32([120, 60])), 0, 1)
+
+
+def uniform_motion(shape: tuple, step: tuple) -> FrameMotion:
+    """Every pixel moves by ``step`` (x, y) px from frame t to t+1; visibility from where they land."""
+    h, w = shape
+    forward = np.broadcast_to(np.float32(step), (h, w, 2)).copy()
+    positions = pixel_positions(h, w)
+    seen = lambda motion: np.all((positions + motion >= 0) & (positions + motion <= [w - 1, h - 1]), axis=-1)  # noqa: E731
+    return FrameMotion(forward, -forward, seen(forward), seen(forward), seen(-forward))
+
+
+def test_a_translated_photo_carries_its_strokes_and_is_born_on_only_where_new_content_enters():
+    shape, step = (150, 200), (1.3, 0.6)
+    params = Params(seed=3)
+    first = first_frame(moved_photo(shape, (0, 0)), params, 3, NO_STAGE)
+    second = next_frame(first, 1, moved_photo(shape, (-step[0], -step[1])), uniform_motion(shape, step), params,
+                        NO_STAGE)
+    before = dict(zip(first.living.ident.tolist(), first.living.strokes.anchor, strict=True))
+    carried = second.living.birth == 0
+    assert carried.sum() > 0.9 * len(first.living)
+    moved = second.living.strokes.anchor[carried]
+    expected = np.array([before[i] for i in second.living.ident[carried].tolist()]) + step
+    assert np.max(np.abs(moved - expected)) < 0.5
+    born = second.living.strokes.anchor[~carried]
+    near_entry = (born[:, 0] < 2 * step[0] + 1) | (born[:, 1] < 2 * step[1] + 1)
+    near_exit = (born[:, 0] > shape[1] - 1 - max(params.stroke_sizes)) | (born[:, 1] > shape[0] - 1 - max(params.stroke_sizes))
+    assert np.all(near_entry | near_exit), born[~(near_entry | near_exit)]
+
+
+def test_a_still_clip_paints_every_frame_as_the_first(tmp_path):
+    picture = moved_photo((90, 120), (0, 0))
+    (tmp_path / "in").mkdir()
+    for number in (1, 2, 3):
+        write_png(tmp_path / f"in/frame_{number:04d}.png", picture, bits=16)
+    frames = find_frames([str(tmp_path / "in")])
+    report = paint_sequence(frames, tmp_path / "out", Params(seed=2))
+    assert report["motion"] == "optical flow" and report["complete"]
+    assert [entry["born"] for entry in report["per_frame"][1:]] == [0, 0]
+    for name in ("color", "height", "opacity"):
+        first = read_exr(tmp_path / f"out/{name}_0001.exr")[0]
+        for number in (2, 3):
+            assert read_exr(tmp_path / f"out/{name}_{number:04d}.exr")[0].tobytes() == first.tobytes(), name
+    pngs = [(tmp_path / f"out/painting_{n:04d}.png").read_bytes() for n in (1, 2, 3)]
+    assert pngs[0] == pngs[1] == pngs[2]
+
+
+def square_scene(shape: tuple, left: int, size: int = 36) -> np.ndarray:
+    """A still, smoothly shaded background with a checkered square whose left side is at column ``left``."""
+    h, w = shape
+    y, x = np.mgrid[0:h, 0:w].astype(np.float32)
+    image = np.stack([0.3 + 0.3 * x / w, 0.4 + 0.2 * y / h, 0.6 - 0.2 * x / w], axis=-1)
+    top = (h - size) // 2
+    inside = (x >= left) & (x < left + size) & (y >= top) & (y < top + size)
+    checks = ((np.floor((x - left) / 9) + np.floor((y - top) / 9)) % 2).astype(np.float32)
+    image[inside] = np.stack([0.9 * checks, 0.2 + 0.0 * checks, 0.9 - 0.8 * checks], axis=-1)[inside]
+    return image
+
+
+def square_motion(shape: tuple, left: int, step: int, size: int = 36) -> FrameMotion:
+    """The square (left side at ``left`` on frame t) moves ``step`` px right; the background stands still."""
+    h, w = shape
+    y, x = np.mgrid[0:h, 0:w]
+    top = (h - size) // 2
+    on = lambda a: (x >= a) & (x < a + size) & (y >= top) & (y < top + size)  # noqa: E731
+    forward = np.zeros((h, w, 2), np.float32)
+    forward[on(left), 0] = step
+    backward = np.zeros((h, w, 2), np.float32)
+    backward[on(left + step), 0] = -step
+    return FrameMotion(forward, backward, visible_in_both(forward, backward), comes_back(forward, backward),
+                       comes_back(backward, forward))
+
+
+def test_an_object_entering_the_frame_is_born_on_only_where_it_and_the_background_it_uncovers_are():
+    """Births lie on the square, on the strip of background it uncovered, or near them: within three of the
+    largest strokes' widths (a stroke that lay across the square's edge is torn by its motion and dies; the
+    strokes born in its place lie where it lay). The still background beyond gets none."""
+    shape, step, size = (120, 240), 8, 36
+    params = Params(seed=4)
+    frame = first_frame(square_scene(shape, -20), params, 3, NO_STAGE)
+    top = (shape[0] - size) // 2
+    reach = 3 * max(frame.living.strokes.size.tolist())
+    for t in range(3):
+        left = -20 + t * step
+        frame = next_frame(frame, t + 1, square_scene(shape, left + step), square_motion(shape, left, step), params,
+                           NO_STAGE)
+        born = frame.living.strokes.anchor[frame.living.birth == t + 1]
+        assert len(born) > 0
+        outside_x = np.maximum(np.maximum(left - born[:, 0], born[:, 0] - (left + step + size - 1)), 0)
+        outside_y = np.maximum(np.maximum(top - born[:, 1], born[:, 1] - (top + size - 1)), 0)
+        assert np.all(np.hypot(outside_x, outside_y) <= reach), born
+    assert left + step + size + reach < shape[1] / 2    # half the background lies beyond reach
+
+
+def write_moving_frames(folder: Path, count: int, shape=(96, 128), step=(1.5, 0.5)) -> None:
+    """``count`` PNG frames of the photograph moving by ``step`` px a frame."""
+    folder.mkdir(parents=True)
+    for t in range(count):
+        write_png(folder / f"frame_{t + 1:04d}.png", moved_photo(shape, (-t * step[0], -t * step[1])), bits=16)
+
+
+def files_of(folder: Path) -> dict:
+    """{name: bytes} of every frame file, the lives file and the state (not report.json: it holds seconds)."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.name != "report.json" and p.is_file()}
+
+
+def command(inputs, out, *options) -> list:
+    return [sys.executable, "-m", "core", "sequence", *map(str, inputs), "-o", str(out), "-q", *options]
+
+
+def test_a_sequence_killed_at_a_frame_resumes_to_the_same_bytes(tmp_path):
+    write_moving_frames(tmp_path / "in", 5)
+    whole = subprocess.run(command([tmp_path / "in"], tmp_path / "whole", "--seed", "9"), cwd=ROOT,
+                           capture_output=True, text=True)
+    assert whole.returncode == 0, whole.stderr
+    process = subprocess.Popen(command([tmp_path / "in"], tmp_path / "killed", "--seed", "9"), cwd=ROOT)
+    report = tmp_path / "killed" / "report.json"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and process.poll() is None:
+        if report.exists() and len(json.loads(report.read_text())["per_frame"]) >= 2:
+            break
+        time.sleep(0.02)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    done = json.loads(report.read_text())["per_frame"]
+    assert 2 <= len(done) < 5, "the run was not stopped midway"
+    assert all((tmp_path / "killed" / f"painting_{e['frame']:04d}.png").exists() for e in done)
+    rerun = subprocess.run(command([tmp_path / "in"], tmp_path / "killed", "--seed", "9"), cwd=ROOT,
+                           capture_output=True, text=True)
+    assert rerun.returncode == 0, rerun.stderr
+    assert files_of(tmp_path / "killed") == files_of(tmp_path / "whole")
+    assert not [p for p in os.listdir(tmp_path / "killed") if p.startswith(".staging")]
+
+
+def refusal(arguments, cwd=ROOT) -> str:
+    """The one line a refused ``core sequence`` prints (exit status 2)."""
+    run = subprocess.run([sys.executable, "-m", "core", "sequence", *map(str, arguments), "-q"], cwd=cwd,
+                         capture_output=True, text=True)
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1, lines
+    return lines[0]
+
+
+def test_a_folder_of_another_sequence_or_a_still_is_refused_and_left_as_it_was(tmp_path):
+    write_moving_frames(tmp_path / "in", 2, shape=(64, 80))
+    paint_sequence(find_frames([str(tmp_path / "in")]), tmp_path / "out", Params(seed=1))
+    before = files_of(tmp_path / "out")
+    line = refusal([tmp_path / "in", "-o", tmp_path / "out", "--seed", "2"])
+    assert f"The output folder {tmp_path / 'out'} holds frames painted with other settings" in line
+    line = refusal([tmp_path / "in", "-o", tmp_path / "out", "--seed", "1", "--fade-frames", "2"])
+    assert "other settings" in line
+    assert files_of(tmp_path / "out") == before
+    (tmp_path / "still").mkdir()
+    (tmp_path / "still" / "report.json").write_text(json.dumps({"strokes": 3}))
+    line = refusal([tmp_path / "in", "-o", tmp_path / "still"])
+    assert line.endswith(f"The output folder {tmp_path / 'still'} holds a still painting; paint the sequence into "
+                         f"another folder.")
+
+
+def test_a_changed_input_frame_is_refused_by_name(tmp_path):
+    write_moving_frames(tmp_path / "in", 2, shape=(64, 80))
+    paint_sequence(find_frames([str(tmp_path / "in")]), tmp_path / "out", Params(seed=1))
+    write_png(tmp_path / "in" / "frame_0001.png", moved_photo((64, 80), (5, 5)), bits=16)
+    line = refusal([tmp_path / "in", "-o", tmp_path / "out", "--seed", "1"])
+    assert f"holds frame 1 painted from another input than {tmp_path / 'in' / 'frame_0001.png'}" in line
+
+
+@pytest.mark.parametrize("options, words", [
+    (["--fade-frames", "0"], "The fade must be a whole number of frames from 1 to 100, got 0."),
+    (["--frames", "7-9"], "The option --frames 7-9 selects no frame"),
+])
+def test_bad_options_are_refused_in_one_sentence_before_any_folder_is_made(tmp_path, options, words):
+    write_moving_frames(tmp_path / "in", 2, shape=(64, 80))
+    line = refusal([tmp_path / "in", "-o", tmp_path / "out", *options])
+    assert words in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_rerun_of_a_complete_sequence_paints_nothing_and_keeps_its_files(tmp_path):
+    write_moving_frames(tmp_path / "in", 2, shape=(64, 80))
+    frames = find_frames([str(tmp_path / "in")])
+    paint_sequence(frames, tmp_path / "out", Params(seed=1), SequenceSettings(fade_frames=2))
+    before = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "out").iterdir()}
+    report = paint_sequence(frames, tmp_path / "out", Params(seed=1), SequenceSettings(fade_frames=2))
+    assert report["complete"] and report["frames"] == [1, 2]
+    assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "out").iterdir()} == before
+
+
+def test_carried_strokes_keep_their_texture_and_follow_the_light():
+    shape, step = (90, 120), (1.0, 0.0)
+    params = Params(seed=6)
+    first = first_frame(moved_photo(shape, (0, 0)), params, 3, NO_STAGE)
+    darker = moved_photo(shape, (-step[0], 0)) * np.float32(0.8)
+    second = next_frame(first, 1, darker, uniform_motion(shape, step), params, NO_STAGE)
+    painted = first.living.strokes
+    index = {ident: i for i, ident in enumerate(first.living.ident.tolist())}
+    kept = np.flatnonzero((second.living.birth == 0) & (second.living.strokes.brush == PAINTING_BRUSH))
+    assert len(kept) > 20
+    for i in kept[:20].tolist():
+        j = index[int(second.living.ident[i])]
+        old = painted.bristles[painted.bristle_starts[j]:painted.bristle_starts[j + 1]]
+        new = second.living.strokes.bristles[second.living.strokes.bristle_starts[i]:
+                                             second.living.strokes.bristle_starts[i + 1]]
+        assert second.living.strokes.anchor_colour[i].mean() < painted.anchor_colour[j].mean()
+        inside = (old > 0.02).all(axis=1) & (old < 0.98).all(axis=1) & (new > 0.02).all(axis=1)
+        offsets_before = old[inside] - painted.anchor_colour[j]
+        offsets_after = new[inside] - second.living.strokes.anchor_colour[i]
+        assert np.allclose(offsets_before, offsets_after, atol=1e-5)
