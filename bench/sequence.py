@@ -24,7 +24,8 @@ then prints a table of both side by side:
   over the clip) over the footage's, the stillness of the painting over the
   footage's, and the shares of pixels visible in both frames and standing
   still that they are taken over (a panning camera leaves none still);
-- report.json's "warping_error" of the sequence (its own motion, "motion");
+- report.json's "warping_error" of the sequence (its own motion, "motion";
+  height / footage from its figures when it gives no "height_ratio");
 - with --coherence-python PY (an interpreter with NumPy, OpenCV and
   OpenImageIO): ../shared/tools/coherence.py for both (motion from the
   source frames by OpenCV DIS): the warping error of the painting and of the
@@ -54,7 +55,8 @@ When this checkout's `core sequence` does not exist (its --help exits
 non-zero) the bench stops with one sentence before painting anything;
 --alone-only runs and measures the frames painted alone without it.
 Painted folders go to a temporary folder, or stay in --work DIR
-(DIR/alone/frame_####/, DIR/sequence/).
+(DIR/alone/frame_####/, DIR/sequence/); the sequence's folder is emptied
+before each run, since `core sequence` resumes a folder it finds.
 
 Usage: python bench/sequence.py CLIP... [--frames A-B] [--seed 5] [--runs 1] [--sequence-runs 1]
          [--coherence-python /work/cohvenv/bin/python] [--pictures DIR] [--work DIR] [--alone-only]
@@ -67,6 +69,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -168,12 +171,15 @@ def paint_alone(frames: Frames, work: Path, seed: int, runs: int) -> dict:
 
 
 def paint_sequence(inputs: Sequence[str], frame_range: Optional[str], out: Path, seed: int, runs: int) -> dict:
-    """`core sequence` on the clip, ``runs`` times, into ``out``: {"walls": [s], "peaks": [MiB], "report": dict}."""
+    """`core sequence` on the clip, ``runs`` times, each into an emptied ``out``:
+    {"walls": [s], "peaks": [MiB], "report": dict}."""
     command = [sys.executable, "-m", "core", "sequence", *inputs, "-o", out, "--seed", seed, "-q"]
     if frame_range:
         command += ["--frames", frame_range]
     walls, peaks = [], []
     for _ in range(runs):
+        if out.exists():
+            shutil.rmtree(out)   # `core sequence` resumes after the last frame a folder holds: start each run anew
         seconds, peak = run_child(command, "core sequence")
         walls.append(seconds)
         peaks.append(peak)
@@ -487,9 +493,10 @@ def main() -> None:
         print("sequence stages, s per frame: " + ", ".join(f"{k} {v / n:.2f}" for k, v in stages.items())
               + f", other {(wall - sum(stages.values())) / n:.2f}")
         w = report["warping_error"]
+        height_ratio = w.get("height_ratio", ratio(w["height"], w["footage"]))
         print(f"sequence report.json warping error ({report['motion']}): footage {w['footage']:.3g}, painting "
               f"{w['painting']:.3g}, height {w['height']:.3g}; painting / footage {w['painting_ratio']:.2f}, "
-              f"height / footage {w['height_ratio']:.2f}")
+              f"height / footage {height_ratio:.2f}")
 
 
 if __name__ == "__main__":
