@@ -207,6 +207,16 @@ def sequence_frames(out: Path, frames: Frames, folder: Path) -> List[Path]:
     return paintings
 
 
+def linked(folders: Sequence[Path], root: Path) -> Path:
+    """``root`` holding links to ``folders`` (the frames painted alone) and nothing else, so coherence.py,
+    which takes every folder it finds, reads this clip's frames only, whatever else --work holds."""
+    root.mkdir(parents=True, exist_ok=True)
+    for folder in folders:
+        if not (root / folder.name).exists():
+            (root / folder.name).symlink_to(folder.resolve())
+    return root
+
+
 def mean_psnr(paintings: Sequence[Path], sources: Sequence[Path]) -> float:
     """Mean over frames of the PSNR (dB) of each painting against its source frame (sRGB [0, 1])."""
     return statistics.fmean(psnr(reading.read_image(p, max_megapixels=math.inf),
@@ -476,7 +486,8 @@ def main() -> None:
         for side, m in sides.items():
             m["steadiness"] = steady[side]
             m["psnr"] = mean_psnr(m["paintings"], sources)
-            painted_root = work / "alone" if side == "alone" else scratch / "sequence_frames"
+            painted_root = linked(painted["folders"], scratch / "alone_frames") if side == "alone" \
+                else scratch / "sequence_frames"
             m["coherence"] = (coherence(args.coherence_python, args.tools, scratch / "sources", painted_root, scratch)
                               if args.coherence_python else None)
         if args.pictures:
