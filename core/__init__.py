@@ -5,11 +5,12 @@ light: the array modules load on first use of ``analyze``.
 """
 
 from .errors import Cancelled, InputError, OutputError, PaintReliefError, ParameterError
-from .params import Params
+from .params import Params, SequenceSettings
 from .version import __version__
 
 __all__ = [
-    "__version__", "Params", "Analysis", "analyze", "Painting", "paint", "paint_file", "check_maps", "ensure_normal_map",
+    "__version__", "Params", "SequenceSettings", "Analysis", "analyze", "Painting", "paint", "paint_file",
+    "paint_sequence_files", "check_maps", "ensure_normal_map",
     "PaintReliefError", "InputError", "OutputError", "ParameterError", "Cancelled",
 ]
 
@@ -33,4 +34,7 @@ def __getattr__(name):
     if name == "paint_file":
         from .api import paint_file
         return paint_file
+    if name == "paint_sequence_files":
+        from .api import paint_sequence_files
+        return paint_sequence_files
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

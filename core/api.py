@@ -74,6 +74,30 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     return report
 
 
+def paint_sequence_files(inputs, output_dir, params: Params, settings=None, frame_range: Optional[str] = None,
+                         progress: ProgressFn = None, cancel: CancelFn = None, max_memory: Optional[int] = None) -> dict:
+    """Paint the image sequence named by ``inputs`` into ``output_dir`` with strokes that live across frames;
+    return the sequence's report (``core.sequence.shot.paint_sequence``).
+
+    inputs: one folder, one ``#`` pattern or frame files in order (``files.frames.find_frames``); frame_range:
+    ``"A-B"`` or None for every frame; settings: a ``SequenceSettings`` (None for the defaults). The frames, the
+    parameters, the stroke sizes and the memory estimate of one frame are checked from headers before any work
+    (a PaintReliefError of one sentence). Every frame is committed whole; stopped anywhere (an error, a signal,
+    ``cancel``), the folder keeps complete frames only and the same call goes on after the last of them.
+    """
+    from .files.frames import find_frames
+    from .sequence.shot import paint_sequence
+
+    params.validate()
+    frames = find_frames(inputs, frame_range, params.max_megapixels)
+    budget.check_stroke_sizes(params, frames.height, frames.width)
+    budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory)
+    try:
+        return paint_sequence(frames, output_dir, params, settings, progress=progress, cancel=cancel)
+    except MemoryError:
+        raise out_of_memory(frames.paths[0]) from None
+
+
 def pages_notice(input_path, pages: int) -> str:
     """The one-line notice for an input holding ``pages`` images, of which the first is used."""
     return f"{input_path} holds {pages} images; painting the first."

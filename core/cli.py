@@ -242,17 +242,13 @@ def _add_sequence_parser(sub) -> None:
 
 def run_sequence(args: argparse.Namespace, progress) -> None:
     """The ``sequence`` subcommand: frames found and checked from their headers before any painting."""
-    from .files.frames import find_frames
+    from .api import paint_sequence_files
     from .heap import reused_heap
-    from .sequence.shot import paint_sequence
 
-    params = params_from_args(args)
     settings = SequenceSettings(args.fade_frames, args.normal_map).validate()
-    frames = find_frames(args.input, args.frames, params.max_megapixels)
-    budget.check_stroke_sizes(params, frames.height, frames.width)
-    budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory(args))
     with reused_heap():
-        paint_sequence(frames, args.output, params, settings, progress=progress)
+        paint_sequence_files(args.input, args.output, params_from_args(args), settings, args.frames, progress=progress,
+                             max_memory=max_memory(args))
 
 
 def _notice(console, text: str) -> None:

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from core.errors import Cancelled
 from core.files.frames import find_frames
 from core.files.reading import read_exr, read_image
 from core.files.writing import write_png
@@ -27,7 +28,7 @@ from core.motion import comes_back, visible_in_both
 from core.motion.warp import bilinear, pixel_positions
 from core.params import Params, SequenceSettings
 from core.progress import Stage
-from core.sequence.frame_step import FrameMotion, first_frame, next_frame
+from core.sequence.frame_step import FrameMotion, first_frame, next_frame, unchanged
 from core.sequence.shot import paint_sequence
 from core.strokes.stroke_list import PAINTING_BRUSH
 
@@ -86,6 +87,24 @@ def test_a_still_clip_paints_every_frame_as_the_first(tmp_path):
             assert read_exr(tmp_path / f"out/{name}_{number:04d}.exr")[0].tobytes() == first.tobytes(), name
     pngs = [(tmp_path / f"out/painting_{n:04d}.png").read_bytes() for n in (1, 2, 3)]
     assert pngs[0] == pngs[1] == pngs[2]
+
+
+def test_next_frame_of_a_still_frame_is_the_frame_before_so_a_still_stretch_is_painted_once():
+    picture = moved_photo((90, 120), (0, 0))
+    params = Params(seed=2)
+    first = first_frame(picture, params, 3, NO_STAGE)
+    still = uniform_motion(picture.shape[:2], (0.0, 0.0))
+    assert unchanged(first, picture, picture, still)
+    second = next_frame(first, 1, picture, still, params, NO_STAGE)
+    assert second.born == 0 and second.died == 0
+    for name in ("colour", "height", "opacity", "coverage"):
+        assert getattr(second.canvas, name).tobytes() == getattr(first.canvas, name).tobytes(), name
+    for name in ("error", "opacity"):
+        assert getattr(second, name).tobytes() == getattr(first, name).tobytes(), name
+    assert np.array_equal(second.living.ident, first.living.ident)
+    assert second.living.strokes.bristles.tobytes() == first.living.strokes.bristles.tobytes()
+    assert not unchanged(first, picture, picture * np.float32(0.99), still)
+    assert not unchanged(first, picture, picture, uniform_motion(picture.shape[:2], (0.5, 0.0)))
 
 
 def square_scene(shape: tuple, left: int, size: int = 36) -> np.ndarray:
@@ -250,3 +269,23 @@ def test_carried_strokes_keep_their_texture_and_follow_the_light():
         offsets_before = old[inside] - painted.anchor_colour[j]
         offsets_after = new[inside] - second.living.strokes.anchor_colour[i]
         assert np.allclose(offsets_before, offsets_after, atol=1e-5)
+
+
+def test_a_cancelled_sequence_keeps_its_complete_frames_and_goes_on_to_the_same_bytes(tmp_path):
+    write_moving_frames(tmp_path / "in", 4, shape=(64, 80))
+    frames = find_frames([str(tmp_path / "in")])
+    paint_sequence(frames, tmp_path / "whole", Params(seed=4))
+    polls = []
+
+    def cancel() -> bool:
+        polls.append(len(list((tmp_path / "part").glob("painting_*.png"))))
+        return polls[-1] >= 2
+
+    with pytest.raises(Cancelled) as caught:
+        paint_sequence(frames, tmp_path / "part", Params(seed=4), cancel=cancel)
+    assert str(caught.value) == (f"The run was cancelled; the frames in {tmp_path / 'part'} are complete, and "
+                                 f"painting the sequence again goes on after the last of them.")
+    assert sorted(p.name for p in (tmp_path / "part").glob("painting_*.png")) == ["painting_0001.png",
+                                                                                 "painting_0002.png"]
+    paint_sequence(frames, tmp_path / "part", Params(seed=4))
+    assert files_of(tmp_path / "part") == files_of(tmp_path / "whole")

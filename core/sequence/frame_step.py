@@ -12,6 +12,7 @@ contact; when none is fading, that is the judging canvas itself.
 from __future__ import annotations
 
 import dataclasses
+import time
 from typing import Dict, NamedTuple, Tuple
 
 import numpy as np
@@ -59,29 +60,36 @@ class PaintedFrame(NamedTuple):
     next_ident: int             # the identity the next stroke born gets
     born: int                   # strokes born on this frame
     died: int                   # strokes gone since the frame before (occluded, or faded out)
+    seconds: Dict[str, float]   # wall-clock seconds of each stage of painting it
 
 
 def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stage) -> PaintedFrame:
     """Frame 0: the still painting of (H, W, 3) sRGB [0, 1] ``image``, its strokes at full contact."""
+    clock = time.perf_counter()
     painting = paint(image, params, stage.progress, stage.cancel, record_strokes=True)
+    strokes = painting.statistics["seconds"]["strokes"]
     living = LivingStrokes.born(painting.stroke_list, 0, 0, fade_frames, fade_frames)
     canvas = Canvas(painting.colour, painting.coverage, painting.height, painting.opacity)
     return PaintedFrame(living, canvas, painting.orientation, colour_distance(painting.colour, painting.analysis.reference),
-                        painting.opacity, len(living), len(living), 0)
+                        painting.opacity, len(living), len(living), 0,
+                        {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes})
 
 
 def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
                stage: Stage) -> PaintedFrame:
     """Frame ``index`` (>= 1) of (H, W, 3) sRGB [0, 1] ``image`` from the ``previous`` frame and the ``motion``
     between them."""
+    clock = Clock()
     analysis = analyze(image, params, cancel=stage.cancel)
     sources = colour_sources(analysis.reference, analysis.sizes, params)
+    clock.lap("analysis")
     shape = image.shape[:2]
     carried = carry(previous.living, motion.forward, motion.kept,
                     size_map(analysis.grids, analysis.grid_sizes, shape), analysis.sizes,
                     params.orientation_threshold)
     living = recoloured(carried.living, {s: sources[s].anchor for s in analysis.sizes}, detail_sources(image).anchor)
     stage.check()
+    clock.lap("carry")
     tips = frame_tips(params, analysis.sizes)
     judging = Canvas.blank(shape, params.canvas_colour)
     lay_strokes(judging, living.settled().strokes, tips, params)
@@ -96,13 +104,40 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     if params.detail_pass:
         paint_details(judging, image, analysis, sources, births, params.layers, stage.sub(0.9, 1.0), recorder,
                       eligible)
+    clock.lap("birth")
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
     np.clip(judging.colour, 0.0, 1.0, out=judging.colour)
     error = np.where(eligible, colour_distance(judging.colour, analysis.reference), laid_error)
     shown = judging if frame.at_full_contact() else laid(frame, tips, params, shape)
+    clock.lap("laying")
     return PaintedFrame(frame, shown, analysis.orientation, error, judging.opacity,
-                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded)
+                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded, clock.seconds)
+
+
+def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray, motion: FrameMotion) -> bool:
+    """Whether ``next_frame`` would give ``previous`` again: the frames are equal and nothing moves, no stroke of
+    ``previous`` is fading, and its judging canvas was the frame shown (no stroke was born on top of it: its
+    opacity is the shown frame's). Then every stroke stays where and as it is, none dies and none is born, so a
+    still stretch of a shot is painted once."""
+    living = previous.living
+    return (np.array_equal(image, next_image) and not motion.forward.any() and not motion.backward.any()
+            and bool(np.all(living.level == living.fade_frames)) and not living.dying.any()
+            and np.array_equal(previous.opacity, previous.canvas.opacity))
+
+
+class Clock:
+    """Wall-clock seconds of consecutive stages."""
+
+    def __init__(self) -> None:
+        self.seconds: Dict[str, float] = {}
+        self.start = time.perf_counter()
+
+    def lap(self, stage: str) -> None:
+        """Record the seconds since the last lap as ``stage``'s."""
+        now = time.perf_counter()
+        self.seconds[stage] = self.seconds.get(stage, 0.0) + now - self.start
+        self.start = now
 
 
 def birth_places(judging: Canvas, reference: np.ndarray, laid_error: np.ndarray, opacity_before: np.ndarray,

@@ -27,7 +27,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..errors import OutputError, ParameterError
+from ..errors import Cancelled, OutputError, ParameterError
 from ..files import reading
 from ..files.export import file_digests, map_attributes, map_tasks, run_all, write_normal_map
 from ..files.frames import Frames, carry_vector_passes, read_vector_pass
@@ -36,10 +36,11 @@ from ..files.staging import output_folder
 from ..files.writing import write_json
 from ..measures.metrics import psnr
 from ..motion import comes_back, motion_pair, optical_flow, still_pixels, stillness, visible_in_both, warping_error
+from ..motion.optical_flow import SEQUENCE_MEGAPIXELS
 from ..params import Params, SequenceSettings, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
-from .frame_step import FrameMotion, PaintedFrame, first_frame, frame_tips, laid, next_frame
+from .frame_step import FrameMotion, PaintedFrame, first_frame, frame_tips, laid, next_frame, unchanged
 from .state import STATE_FILE, load_state, save_state
 
 REPORT_FILE = "report.json"
@@ -97,7 +98,11 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
                            + [REPORT_FILE, STATE_FILE])
         done = len(report["per_frame"])
         if done < len(frames.paths):
-            run.paint_from(done, report, folder, progress, cancel)
+            try:
+                run.paint_from(done, report, folder, progress, cancel)
+            except Cancelled:
+                raise Cancelled(f"The run was cancelled; the frames in {output_dir} are complete, and painting the "
+                                f"sequence again goes on after the last of them.") from None
     report["output_dir"] = str(Path(output_dir).resolve())
     return report
 
@@ -162,18 +167,20 @@ class Run:
             seconds["reading"] = time.perf_counter() - clock
             stage.report(0.0, "motion" if index else "painting")
             if index == 0:
-                clock = time.perf_counter()
                 painted = first_frame(next_image, self.params, self.settings.fade_frames, stage)
-                seconds["painting"] = time.perf_counter() - clock
                 measures = {}
             else:
                 clock = time.perf_counter()
                 motion = frame_motion(image, next_image, vectors, next_vectors)
                 seconds["motion"] = time.perf_counter() - clock
+                if unchanged(previous, image, next_image, motion):
+                    painted = previous._replace(born=0, died=0, seconds={})
+                else:
+                    painted = next_frame(previous, index, next_image, motion, self.params, stage)
                 clock = time.perf_counter()
-                painted = next_frame(previous, index, next_image, motion, self.params, stage)
-                seconds["painting"] = time.perf_counter() - clock
                 measures = pair_measures(image, next_image, previous.canvas, painted.canvas, motion)
+                seconds["measures"] = time.perf_counter() - clock
+            seconds.update(painted.seconds)
             self.commit(folder, index, painted, next_image, measures, seconds, report)
             previous, image, vectors = painted, next_image, next_vectors
 
@@ -219,11 +226,14 @@ def frame_progress(progress: ProgressFn, number: int, index: int, count: int) ->
 def frame_motion(image: np.ndarray, next_image: np.ndarray, vectors: Optional[np.ndarray],
                  next_vectors: Optional[np.ndarray]) -> FrameMotion:
     """The motion between two frames: from their Vector passes (``vectors``, ``next_vectors``) when they have them,
-    else optical flow both ways; with which pixels of each are visible in both."""
+    else optical flow both ways (none between equal frames); with which pixels of each are visible in both."""
     if vectors is not None:
         forward, backward = motion_pair(vectors, next_vectors)
+    elif np.array_equal(image, next_image):
+        forward = backward = np.zeros(image.shape[:2] + (2,), np.float32)
     else:
-        forward, backward = optical_flow(image, next_image), optical_flow(next_image, image)
+        forward = optical_flow(image, next_image, SEQUENCE_MEGAPIXELS)
+        backward = optical_flow(next_image, image, SEQUENCE_MEGAPIXELS)
     return FrameMotion(forward, backward, visible_in_both(forward, backward), comes_back(forward, backward),
                        comes_back(backward, forward))
 

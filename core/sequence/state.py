@@ -61,5 +61,5 @@ def load_state(path: Path) -> SavedState:
     except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
         raise InputError(f"The sequence state {path} cannot be read ({exc}); paint the sequence into a new "
                          f"folder.") from exc
-    return SavedState(PaintedFrame(living, None, None, arrays["error"], arrays["opacity"], next_ident, born, died),
+    return SavedState(PaintedFrame(living, None, None, arrays["error"], arrays["opacity"], next_ident, born, died, {}),
                       index, lives_bytes)
