@@ -100,6 +100,7 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     laid_error = np.where(nearest(previous.fresh, came_from), error, bilinear(previous.error, came_from))
     eligible = birth_places(judging, error, laid_error, bilinear(previous.opacity, came_from), motion.seen_before,
                             params)
+    living, gone = living.fading_out(anchored_in(living.strokes.anchor, eligible))
     recorder = StrokeRecorder()
     births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
     paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
@@ -114,7 +115,8 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     shown = judging if frame.at_full_contact() else laid(frame, tips, params, shape)
     clock.lap("laying")
     return PaintedFrame(frame, shown, analysis.orientation, laid_error, eligible, judging.opacity,
-                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded, clock.seconds)
+                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded + gone,
+                        clock.seconds)
 
 
 def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray, motion: FrameMotion) -> bool:
@@ -126,6 +128,12 @@ def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray,
     return (np.array_equal(image, next_image) and not motion.forward.any() and not motion.backward.any()
             and bool(np.all(living.level == living.fade_frames)) and not living.dying.any()
             and np.array_equal(previous.opacity, previous.canvas.opacity) and not previous.fresh.any())
+
+
+def anchored_in(anchors: np.ndarray, places: np.ndarray) -> np.ndarray:
+    """(N,) bool: which of N ``anchors`` (N, 2) px lie on a pixel where the (H, W) bool ``places`` holds."""
+    rows, cols = nearest_pixels(places.shape, anchors[:, 0], anchors[:, 1])
+    return places[rows, cols]
 
 
 def nearest(mask: np.ndarray, positions: np.ndarray) -> np.ndarray:
