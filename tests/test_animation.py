@@ -144,26 +144,39 @@ def test_paint_animation_of_the_scene_leaves_it_as_it_found_it(results):
 
 
 @pytest.mark.blender
-def test_stopped_runs_keep_complete_frames_and_go_on_to_the_same_bytes(results):
+def test_esc_keeps_complete_frames_and_paint_animation_goes_on_to_the_same_bytes(results):
+    """The interactive operator (its modal steps driven as a window drives them), stopped twice by Esc."""
     step = _step(results, "cancel_and_resume", painter=True)
-    # Stopped between rendered frames: two complete frames, nothing half written, the scene as it was.
+    # Esc while rendering: the frame being rendered ends, two complete frames stay, nothing half written,
+    # the scene as it was, the progress bar and the status text gone.
     stopped = step["after_render_stop"]
-    assert stopped["differences"] == []
+    assert stopped["outcome"] == ["CANCELLED"] and stopped["reports"][-1][0] == "WARNING"
+    assert "2 of 4 frames" in one_sentence(stopped["reports"][-1][1])
+    assert stopped["differences"] == [] and not stopped["running"]
     assert set(stopped["files"]) == {"scene_render/frame_0001.exr", "scene_render/frame_0002.exr"}
-    # Paint Animation pressed again picks the stopped run's folder, beside the saved .blend file.
-    assert step["same_folder"] == step["first_folder"] == os.path.join(step["parent"], "Shot_001")
-    # Stopped while painting frame 3: frames 1 and 2 whole, nothing of frame 3, the footage kept.
+    assert any("rendering frame 2 (2/4)" in (text or "") for text in stopped["texts"]), stopped["texts"]
+    assert stopped["texts"][-1] is None and stopped["progress"][-2:] == ["timer removed", "end"]
+    # The folder the operator picked, beside the saved .blend file, is picked again by the next press.
+    assert step["folder"] == os.path.join(step["parent"], "Shot_001")
+    assert step["after_paint_stop"]["folder"] == step["folder_again"] == step["folder"]
+    # Esc while painting frame 3: whole frames only (1, 2 and perhaps 3), the rendered footage kept.
     painted = step["after_paint_stop"]
-    assert "cancelled" in one_sentence(painted["stopped"])
-    assert painted["frames"] == [1, 2]
-    kept = {"report.json", "strokes.lives", ".sequence-state.npz"} | _frame_files(1) | _frame_files(2)
+    assert painted["outcome"] == ["CANCELLED"] and painted["reports"][-1][0] == "WARNING"
+    assert "cancelled" in one_sentence(painted["reports"][-1][1]) and not painted["running"]
+    frames = painted["frames"]
+    assert frames in ([1, 2], [1, 2, 3]), frames
+    kept = {"report.json", "strokes.lives", ".sequence-state.npz"}.union(*(_frame_files(n) for n in frames))
     kept |= {"scene_render/frame_{:04d}.exr".format(n) for n in range(1, 5)}
     assert set(painted["files"]) == kept
-    # The operator goes on after frame 2 (frame 1 is not painted again) and ends as a run never stopped.
-    assert step["result"] == ["FINISHED"], step["error"]
+    # Progress names the frame and the stage within it.
+    assert any(re.search(r"Frame \d \(\d/4\): \w", text or "") for text in painted["texts"]), painted["texts"]
+    # Paint Animation again goes on after the last complete frame (frame 1 is not painted again) and ends
+    # with the bytes of a run never stopped; the rendered footage goes, the scene is as it was.
+    assert step["outcome"] == ["FINISHED"], step["reports"]
     assert step["resumed_frames"] == [1, 2, 3, 4] and step["complete"]
     assert step["resumed_first_frame"] == painted["first_frame"]
     assert not any(name.startswith("scene_render") for name in step["resumed_files"])
+    assert step["differences"] == []
     assert step["reference_result"] == ["FINISHED"], step["reference_error"]
     assert step["differing"] == []
 
@@ -192,7 +205,9 @@ def test_a_bad_source_is_one_sentence_and_writes_nothing(results):
     words = {"image_not_a_sequence": "not an image sequence", "missing_folder": "does not exist",
              "folder_without_frames": "holds no frames", "frames_of_two_sizes": "same size",
              "missing_frame": "frame 2 is missing", "pattern_without_hash": "holds no '#'",
-             "pattern_matching_nothing": "No file matches", "no_camera": "no active camera"}
+             "pattern_matching_nothing": "No file matches", "no_camera": "no active camera",
+             "output_inside_the_extension": "inside the extension's folder",
+             "still_inside_the_extension": "inside the extension's folder"}
     assert set(step) == set(words)
     for case, word in words.items():
         found = step[case]

@@ -199,6 +199,10 @@ motion from frame to frame"""
     def invoke(self, context, event):
         if bpy.app.background:
             return self.execute(context)
+        return self._begin_modal(context)
+
+    def _begin_modal(self, context):
+        """Check, then start the timer that renders frame by frame and watches the painting."""
         job = self._prepared(context)
         if job is None:
             return {"CANCELLED"}

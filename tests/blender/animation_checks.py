@@ -259,7 +259,7 @@ def run_op(op, **kwargs):
 def main(work):
     bpy = load_extension(work)
     from paint_relief.addon import dependencies
-    from paint_relief.addon.painting import animation_source, ops_animation, scene_render
+    from paint_relief.addon.painting import animation_source, jobs, ops_animation, scene_render
 
     ops = bpy.ops.paint_relief
     painter = dependencies.problem() is None
@@ -305,60 +305,47 @@ def main(work):
 
     @timed
     def cancel_and_resume():
-        """A run stopped while rendering (as Esc does between frames), again while painting, then run to its
-        end, against a run never stopped."""
+        """The interactive operator's own steps (``ModalDriver``): Esc between rendered frames, Paint Animation
+        again and Esc while painting frame 3, Paint Animation again to the end; against a run never stopped."""
         if not painter:
             return {"skipped": dependencies.problem()}
-        from paint_relief import core
-
         scene = build_scene(bpy, work)
         settings = scene.paint_relief
         settings.animation_source = "SCENE"
-        # Stopped twice: the operator's own steps, as its modal timer runs them, into the folder it picks
-        # (beside the saved .blend file).
-        settings.animation_output_dir = ""
+        settings.animation_output_dir = ""  # the folder the operator picks: beside the saved .blend file
         bpy.ops.wm.save_as_mainfile(filepath=os.path.join(work, "shot.blend"))
-        parent = os.path.join(work, "paint_relief")
-        job = ops_animation.prepare(bpy.context)
-        first_folder = job.output_dir
-        ops_animation._start(bpy.context, job)
         before = settings_snapshot(scene)
-        job.frames.render_next()
-        job.frames.render_next()
-        job.frames.close()  # Esc between frames
-        after_render_stop = {"differences": differences(before, settings_snapshot(scene)),
-                             "files": folder_files(job.output_dir)}
-        job = ops_animation.prepare(bpy.context)  # the same folder: the stopped run's
-        same_folder = job.output_dir
-        while job.frames.render_next():
-            pass
-        job.frames.close()
-        messages = []
 
-        def cancel():
-            return any(message.startswith("Frame 3 ") for message in messages)
+        first = ModalDriver(bpy, ops_animation)
+        first.run(stop_when=lambda: first.rendered_frames() == 2)
+        folder = settings.animation_dir
+        after_render_stop = {"outcome": first.outcome, "reports": first.reports, "texts": first.shown(),
+                             "progress": first.progress, "differences": differences(before, settings_snapshot(scene)),
+                             "files": folder_files(folder), "running": jobs.is_running(scene)}
 
-        try:
-            job.paint(progress=lambda fraction, message: messages.append(message), cancel=cancel)
-            stopped = None
-        except core.Cancelled as error:
-            stopped = str(error)
-        report = json.load(open(os.path.join(job.output_dir, "report.json")))
-        after_paint_stop = {"stopped": stopped, "files": folder_files(job.output_dir),
-                            "frames": report["frames"], "first_frame": report["per_frame"][0]}
-        result, error = run_op(ops.paint_animation)
-        resumed = json.load(open(os.path.join(job.output_dir, "report.json")))
-        # A run never stopped, into a folder of its own.
+        second = ModalDriver(bpy, ops_animation)
+        second.run(stop_when=lambda: any(text and "Frame 3 (3/4)" in text for text in second.texts))
+        report = json.load(open(os.path.join(folder, "report.json")))
+        after_paint_stop = {"outcome": second.outcome, "reports": second.reports, "folder": settings.animation_dir,
+                            "files": folder_files(folder), "frames": report["frames"],
+                            "first_frame": report["per_frame"][0], "texts": second.shown(),
+                            "running": jobs.is_running(scene)}
+
+        third = ModalDriver(bpy, ops_animation)
+        third.run()
+        folder_again = settings.animation_dir
+        resumed = json.load(open(os.path.join(folder, "report.json")))
         reference = os.path.join(work, "never_stopped")
         settings.animation_output_dir = reference
         reference_result, reference_error = run_op(ops.paint_animation)
-        return {"first_folder": first_folder, "same_folder": same_folder,
-                "parent": parent, "after_render_stop": after_render_stop, "after_paint_stop": after_paint_stop,
-                "result": result, "error": error, "resumed_frames": resumed["frames"],
-                "resumed_first_frame": resumed["per_frame"][0], "complete": resumed["complete"],
-                "resumed_files": folder_files(job.output_dir),
+        return {"parent": os.path.join(work, "paint_relief"), "folder": folder,
+                "after_render_stop": after_render_stop, "after_paint_stop": after_paint_stop,
+                "outcome": third.outcome, "reports": third.reports, "folder_again": folder_again,
+                "resumed_frames": resumed["frames"], "resumed_first_frame": resumed["per_frame"][0],
+                "complete": resumed["complete"], "resumed_files": folder_files(folder),
+                "differences": differences(before, settings_snapshot(scene)),
                 "reference_result": reference_result, "reference_error": reference_error,
-                "differing": differing_files(job.output_dir, reference)}
+                "differing": differing_files(folder, reference)}
 
     @timed
     def sources():
@@ -435,6 +422,10 @@ def main(work):
             "pattern_matching_nothing": ("PATTERN", "animation_pattern", os.path.join(work, "frames", "x_####.png")),
             "no_camera": ("SCENE", None, None),
         }
+        # An output folder inside the extension's own folder (here the checkout the package links to).
+        package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(ops_animation.__file__))))
+        inside = os.path.join(package, "painted_inside_the_extension")
+        cases["output_inside_the_extension"] = ("FOLDER", "animation_folder", os.path.join(work, "frames"))
         found = {}
         for case, (source, name, value) in cases.items():
             settings.animation_source = source
@@ -442,14 +433,97 @@ def main(work):
                 setattr(settings, name, value)
             if case == "no_camera":
                 scene.camera = None
-            out = os.path.join(work, "bad_" + case)
+            out = inside if case == "output_inside_the_extension" else os.path.join(work, "bad_" + case)
             settings.animation_output_dir = out
             result, error = run_op(ops.paint_animation)
             found[case] = {"result": result, "error": error, "output_exists": os.path.exists(out)}
+        # The still painting keeps to the same rule.
+        settings.image_path = os.path.join(work, "still.png")
+        settings.output_dir = inside
+        result, error = run_op(ops.paint)
+        found["still_inside_the_extension"] = {"result": result, "error": error, "output_exists": os.path.exists(inside)}
+        shutil.rmtree(inside, ignore_errors=True)
         return found
 
     RESULTS["seconds"] = SECONDS
     print("RESULTS " + json.dumps(RESULTS), flush=True)
+
+
+class _WindowManager:
+    """What the operator asks of the window manager: a timer, the progress bar and a modal handler."""
+
+    def __init__(self, progress):
+        self.progress = progress
+
+    def event_timer_add(self, interval, window=None):
+        return "timer"
+
+    def event_timer_remove(self, timer):
+        self.progress.append("timer removed")
+
+    def progress_begin(self, low, high):
+        self.progress.append("begin")
+
+    def progress_update(self, value):
+        self.progress.append(value)
+
+    def progress_end(self):
+        self.progress.append("end")
+
+    def modal_handler_add(self, operator):
+        pass
+
+
+class _Workspace:
+    def __init__(self, texts):
+        self.texts = texts
+
+    def status_text_set(self, text):
+        self.texts.append(text)
+
+
+class ModalDriver:
+    """Paint Animation's interactive path without a window: the operator's own ``_begin_modal`` and
+    ``modal`` methods, called with the events a window sends (a timer event every few milliseconds, Esc when
+    ``stop_when()`` first turns True) and a window manager and workspace that record the progress bar and
+    the status text."""
+
+    def __init__(self, bpy, ops_animation):
+        names = [name for name in vars(ops_animation.PAINT_RELIEF_OT_paint_animation)
+                 if not name.startswith(("__", "bl_"))]
+        self.operator = type("Operator", (), {name: vars(ops_animation.PAINT_RELIEF_OT_paint_animation)[name]
+                                              for name in names})()
+        self.reports, self.texts, self.progress = [], [], []
+        self.operator.report = lambda level, text: self.reports.append([sorted(level)[0], text])
+        self.context = type("Context", (), {})()
+        self.context.scene, self.context.view_layer = bpy.context.scene, bpy.context.view_layer
+        self.context.blend_data, self.context.preferences = bpy.data, bpy.context.preferences
+        self.context.window = None
+        self.context.window_manager = _WindowManager(self.progress)
+        self.context.workspace = _Workspace(self.texts)
+        self.outcome = None
+
+    def shown(self):
+        """The status texts in the order shown, each once in a row."""
+        return [text for i, text in enumerate(self.texts) if i == 0 or text != self.texts[i - 1]]
+
+    def rendered_frames(self):
+        frames = getattr(getattr(self.operator, "_job", None), "frames", None)
+        return frames.done if frames is not None else 0
+
+    def run(self, stop_when=lambda: False, seconds=300):
+        timer, escape = type("Event", (), {"type": "TIMER", "value": "NOTHING"}), None
+        result = self.operator._begin_modal(self.context)
+        stopped = False
+        deadline = time.monotonic() + seconds
+        while result == {"RUNNING_MODAL"} and time.monotonic() < deadline:
+            if not stopped and stop_when():
+                stopped = True
+                escape = type("Event", (), {"type": "ESC", "value": "PRESS"})
+                self.operator.modal(self.context, escape)
+            time.sleep(0.005)
+            result = self.operator.modal(self.context, timer)
+        self.outcome = sorted(result)
 
 
 def write_frame(bpy, path, number, size=(WIDTH, HEIGHT)):
