@@ -96,7 +96,9 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
         settings = scene.paint_relief
         layout.prop(settings, "animation_source", expand=True)
         source = settings.animation_source
-        if source == "SCENE":
+        if source == "SCENE" and scene.camera is None:
+            layout.label(text="The scene has no active camera to render", icon="ERROR")
+        elif source == "SCENE":
             render = scene.render
             scale = render.resolution_percentage / 100.0
             row = layout.row()
@@ -114,12 +116,11 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
         layout.prop(settings, "animation_fade_frames")
         layout.prop(settings, "animation_output_dir")
         if not settings.animation_output_dir:
-            row = layout.row()
-            row.alignment = "RIGHT"
             if settings.animation_key and settings.animation_dir:
-                row.label(text="Goes on in {} with the same source and settings".format(
-                    bpy.path.basename(bpy.path.abspath(settings.animation_dir).rstrip("/\\"))), icon="INFO")
+                layout.prop(settings, "animation_dir", text="Stopped Run")
             else:
+                row = layout.row()
+                row.alignment = "RIGHT"
                 row.label(text=os.path.join(properties.paintings_parent(context), values.folder_stem(
                     animation_source.source_name(settings, scene)) + "_NNN"), icon="INFO")
         layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")

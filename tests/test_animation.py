@@ -213,3 +213,18 @@ def test_a_bad_source_is_one_sentence_and_writes_nothing(results):
         found = step[case]
         assert found["result"] is None and word in one_sentence(found["error"]), (case, found["error"])
         assert not found["output_exists"], case
+
+
+@pytest.mark.blender
+def test_the_panel_shows_each_source_and_where_it_paints(results):
+    step = _step(results, "panel_draws")
+    for state, shown in step.items():
+        assert shown[0] == "prop animation_source" and shown[-1] == "operator paint_relief.paint_animation", state
+    assert any(line.startswith("label Frames 1 to 4, 64 x 48 px, Cycles") for line in step["SCENE"])
+    assert "label The scene has no active camera to render" in step["SCENE no camera"]
+    assert "prop animation_dir" in step["SCENE stopped"] and "prop animation_dir" not in step["SCENE"]
+    assert any(line.endswith(os.sep + "Shot_NNN") for line in step["SCENE"]), step["SCENE"]
+    for source, name in (("IMAGE", "animation_image"), ("FOLDER", "animation_folder"),
+                         ("PATTERN", "animation_pattern")):
+        assert "prop " + name in step[source], source
+    assert not any("_NNN" in line for line in step["FOLDER output"])

@@ -206,9 +206,9 @@ motion from frame to frame"""
         job = self._prepared(context)
         if job is None:
             return {"CANCELLED"}
-        jobs.begin(context.scene)
+        self._job_key = jobs.begin(context.scene)
         _start(context, job)
-        self._job, self._scene = job, context.scene
+        self._job = job
         self._cancel = threading.Event()
         self._state = {"fraction": 0.0, "message": "Starting", "report": None, "error": None, "stopped": None}
         self._thread = None
@@ -309,16 +309,16 @@ motion from frame to frame"""
         context.workspace.status_text_set("Paint Animation: {:.0f}% {}".format(100 * fraction, text))
 
     def cancel(self, context):
-        """Blender ends the operator (e.g. the file closes): stop the worker and clean up."""
+        """Blender ends the operator (another file is opened, or Blender quits): stop the worker, clean up."""
         self._cancel.set()
         if self._thread is not None:
             self._thread.join()
-        self._end(context)
+        self._end(context, closing=True)
 
-    def _end(self, context):
+    def _end(self, context, closing=False):
         if self._job.frames is not None:
-            self._job.frames.close()
-        jobs.end(self._scene)
+            self._job.frames.close(restore_frame=not closing)
+        jobs.end(self._job_key)
         wm = context.window_manager
         wm.event_timer_remove(self._timer)
         wm.progress_end()

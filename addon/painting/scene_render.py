@@ -203,12 +203,13 @@ class RenderedFrames:
         render_frame(scene, layer, number, self.paths[self.numbers.index(number)])
         return True
 
-    def close(self):
-        """Put the scene's frame back and remove a hidden unfinished file; safe to call twice."""
+    def close(self, restore_frame=True):
+        """Put the scene's frame back (unless ``restore_frame`` is False: the file is closing, and a scene
+        of the same name may belong to the next one) and remove a hidden unfinished file; safe to call twice."""
         if self._closed:
             return
         self._closed = True
-        scene = bpy.data.scenes.get(self.scene_name)
+        scene = bpy.data.scenes.get(self.scene_name) if restore_frame else None
         if scene is not None:
             frame, subframe = self._original_frame
             if (scene.frame_current, scene.frame_subframe) != (frame, subframe):

@@ -386,7 +386,11 @@ class PaintReliefSettings(PropertyGroup):
     )
     animation_dir: StringProperty(
         name="Animation",
-        description="Folder of the frames the last Paint Animation of this scene painted",
+        description=(
+            "Folder of the frames the last Paint Animation of this scene painted. While that run is stopped "
+            "before its last frame, Paint Animation with the same source and settings goes on with it: clear "
+            "this to start a new folder instead"
+        ),
         subtype="DIR_PATH",
         options=_PATH_OPTIONS,
     )

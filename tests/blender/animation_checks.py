@@ -445,8 +445,53 @@ def main(work):
         shutil.rmtree(inside, ignore_errors=True)
         return found
 
+    @timed
+    def panel_draws():
+        """The Paint Animation panel drawn for every source and state into a layout that records what it shows
+        (a property that does not exist fails)."""
+        from paint_relief.addon import panels
+
+        scene = build_scene(bpy, work)
+        settings = scene.paint_relief
+        shown = {}
+        states = [("SCENE", ""), ("SCENE", "stopped"), ("SCENE", "no camera"), ("IMAGE", ""), ("FOLDER", ""),
+                  ("PATTERN", ""), ("FOLDER", "output")]
+        for source, state in states:
+            settings.animation_source = source
+            settings.animation_output_dir = os.path.join(work, "out") if state == "output" else ""
+            settings.animation_key, settings.animation_dir = ("k", os.path.join(work, "Shot_001")) if state else ("", "")
+            scene.camera = None if state == "no camera" else bpy.data.objects["Camera"]
+            layout = _Layout()
+            panel = type("Panel", (), {"layout": layout, "_layout": lambda self: self.layout})()
+            panels.VIEW3D_PT_paint_relief_animation.draw(panel, bpy.context)
+            shown["{} {}".format(source, state).strip()] = layout.shown
+        return shown
+
     RESULTS["seconds"] = SECONDS
     print("RESULTS " + json.dumps(RESULTS), flush=True)
+
+
+class _Layout:
+    """A panel layout that records the properties, labels and operators it is asked to show."""
+
+    def __init__(self, shown=None):
+        self.shown = [] if shown is None else shown
+
+    def prop(self, data, name, **options):
+        if name not in data.bl_rna.properties:
+            raise AttributeError("{} has no property {}".format(data, name))
+        self.shown.append("prop " + name)
+
+    def label(self, text="", **options):
+        self.shown.append("label " + text)
+
+    def operator(self, name, **options):
+        self.shown.append("operator " + name)
+
+    def row(self, **options):
+        return _Layout(self.shown)
+
+    column = row
 
 
 class _WindowManager:
