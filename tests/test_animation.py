@@ -200,14 +200,16 @@ def test_sources_name_their_frames(results):
 
 
 @pytest.mark.blender
-def test_a_bad_source_is_one_sentence_and_writes_nothing(results):
+def test_a_bad_source_or_folder_is_one_sentence_and_writes_nothing(results):
     step = _step(results, "bad_sources", painter=True)
     words = {"image_not_a_sequence": "not an image sequence", "missing_folder": "does not exist",
              "folder_without_frames": "holds no frames", "frames_of_two_sizes": "same size",
              "missing_frame": "frame 2 is missing", "pattern_without_hash": "holds no '#'",
              "pattern_matching_nothing": "No file matches", "no_camera": "no active camera",
              "output_inside_the_extension": "inside the extension's folder",
-             "still_inside_the_extension": "inside the extension's folder"}
+             "still_inside_the_extension": "inside the extension's folder",
+             "into_a_still": "holds a still painting", "into_a_finished_animation": "complete painted animation",
+             "into_other_footage": "other footage"}
     assert set(step) == set(words)
     for case, word in words.items():
         found = step[case]

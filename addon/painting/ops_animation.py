@@ -108,11 +108,17 @@ def prepare(context):
             raise ValueError("The output folder {} holds a complete painted animation: choose another folder, or "
                              "leave Output Folder empty for a new one.".format(output_dir))
         painted_from = values.sequence_folder_inputs(output_dir)
-        if state == "unfinished" and painted_from is not None and painted_from != frames.paths:
+        if state == "unfinished" and painted_from is not None and _rendered_names(painted_from) != \
+                _rendered_names(frames.paths):
             raise ValueError("The output folder {} holds frames painted from other footage than scene {}'s frames "
                              "{} to {}: choose another folder.".format(output_dir, scene.name, frames.numbers[0],
                                                                       frames.numbers[-1]))
     return AnimationJob(scene, inputs, frames, output_dir, params, sequence_settings, key)
+
+
+def _rendered_names(paths):
+    """``scene_render/frame_0001.exr``, ... of input paths (the folder they sit in may have moved since)."""
+    return [os.path.join(os.path.basename(os.path.dirname(path)), os.path.basename(path)) for path in paths]
 
 
 def _start(context, job):

@@ -426,17 +426,29 @@ def main(work):
         package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(ops_animation.__file__))))
         inside = os.path.join(package, "painted_inside_the_extension")
         cases["output_inside_the_extension"] = ("FOLDER", "animation_folder", os.path.join(work, "frames"))
+        # Output folders holding something else (their report.json says what): a still painting, the scene
+        # painted to the end, the frames of another footage stopped halfway.
+        reports = {"into_a_still": {"strokes": 3},
+                   "into_a_finished_animation": {"sequence": "k", "complete": True,
+                                                 "input": [os.path.join(work, "x", "scene_render", "frame_0001.exr")]},
+                   "into_other_footage": {"sequence": "k", "complete": False,
+                                          "input": [os.path.join(work, "frames", "shot_0003.png")]}}
+        for case, report in reports.items():
+            os.makedirs(os.path.join(work, "bad_" + case))
+            with open(os.path.join(work, "bad_" + case, "report.json"), "w") as stream:
+                json.dump(report, stream)
+            cases[case] = ("SCENE", None, None)
         found = {}
         for case, (source, name, value) in cases.items():
             settings.animation_source = source
             if name is not None:
                 setattr(settings, name, value)
-            if case == "no_camera":
-                scene.camera = None
+            scene.camera = None if case == "no_camera" else bpy.data.objects["Camera"]
             out = inside if case == "output_inside_the_extension" else os.path.join(work, "bad_" + case)
             settings.animation_output_dir = out
             result, error = run_op(ops.paint_animation)
-            found[case] = {"result": result, "error": error, "output_exists": os.path.exists(out)}
+            found[case] = {"result": result, "error": error,
+                           "output_exists": os.path.exists(out) and sorted(os.listdir(out)) != ["report.json"]}
         # The still painting keeps to the same rule.
         settings.image_path = os.path.join(work, "still.png")
         settings.output_dir = inside
