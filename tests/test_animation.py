@@ -132,6 +132,14 @@ def test_rendering_the_scene_puts_every_setting_back(results):
 
 
 @pytest.mark.blender
+def test_a_video_or_exr_output_is_put_back_too(results):
+    step = _step(results, "other_output_formats")
+    for file_format in ("FFMPEG", "OPEN_EXR"):
+        assert step[file_format]["differences"] == [], file_format
+        assert step[file_format]["files"] == ["frame_0001.exr"], file_format
+
+
+@pytest.mark.blender
 def test_paint_animation_of_the_scene_leaves_it_as_it_found_it(results):
     step = _step(results, "paint_the_scene", painter=True)
     assert step["result"] == ["FINISHED"], step["error"]

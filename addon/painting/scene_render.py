@@ -80,14 +80,14 @@ class Changes:
         return refused
 
 
-def _image_settings_names(image_settings):
-    """The writable plain settings of an ImageFormatSettings, the media type and file format first (setting
-    them changes which colour depths, modes and codecs are allowed)."""
-    first = [name for name in ("media_type", "file_format") if name in image_settings.bl_rna.properties]
-    rest = [prop.identifier for prop in image_settings.bl_rna.properties
-            if not prop.is_readonly and prop.type not in ("POINTER", "COLLECTION") and prop.identifier != "rna_type"
-            and prop.identifier not in first]
-    return first + rest
+def _plain_names(struct, first=()):
+    """The writable plain (not pointer or collection) settings of a Blender struct, those of ``first`` that
+    it has first."""
+    properties = struct.bl_rna.properties
+    first = [name for name in first if name in properties]
+    return first + [prop.identifier for prop in properties
+                    if not prop.is_readonly and prop.type not in ("POINTER", "COLLECTION")
+                    and prop.identifier != "rna_type" and prop.identifier not in first]
 
 
 @contextlib.contextmanager
@@ -98,8 +98,11 @@ def render_settings(scene, view_layer, filepath):
     render = scene.render
     image_settings = render.image_settings
     try:
-        # Every plain format setting is recorded: a new file format may adjust the depth, mode or codec.
-        changes.keep(image_settings, _image_settings_names(image_settings))
+        # Every plain format setting is recorded, media type and file format first: setting a file format
+        # adjusts the depth, mode or codec it allows, and (Blender 4.x) putting FFmpeg back resets its
+        # container, so the FFmpeg settings are recorded too and put back after the format.
+        changes.keep(image_settings, _plain_names(image_settings, first=("media_type", "file_format")))
+        changes.keep(render.ffmpeg, _plain_names(render.ffmpeg))
         if "media_type" in image_settings.bl_rna.properties:  # Blender 5.x
             changes.set(image_settings, "media_type", "MULTI_LAYER_IMAGE")
         changes.set(image_settings, "file_format", "OPEN_EXR_MULTILAYER")

@@ -288,6 +288,32 @@ def main(work):
                 "frame_current": scene.frame_current, "user_frames": os.path.exists(os.path.join(work, "user_frames"))}
 
     @timed
+    def other_output_formats():
+        """The scene's own output a video (FFmpeg, MPEG-4 H.264) or a single-layer half-float DWAA EXR: one
+        frame rendered, every setting back."""
+        found = {}
+        for file_format in ("FFMPEG", "OPEN_EXR"):
+            scene = build_scene(bpy, work)
+            image_settings = scene.render.image_settings
+            if hasattr(image_settings, "media_type"):
+                image_settings.media_type = "VIDEO" if file_format == "FFMPEG" else "IMAGE"
+            image_settings.file_format = file_format
+            if file_format == "FFMPEG":
+                scene.render.ffmpeg.format, scene.render.ffmpeg.codec = "MPEG4", "H264"
+            else:
+                image_settings.exr_codec, image_settings.color_depth = "DWAA", "16"
+            before = settings_snapshot(scene)
+            frames = scene_render.RenderedFrames(scene, bpy.context.view_layer,
+                                                 os.path.join(work, "formats", file_format))
+            try:
+                frames.render_next()
+            finally:
+                frames.close()
+            found[file_format] = {"differences": differences(before, settings_snapshot(scene)),
+                                  "files": sorted(os.listdir(frames.folder))}
+        return found
+
+    @timed
     def paint_the_scene():
         if not painter:
             return {"skipped": dependencies.problem()}
