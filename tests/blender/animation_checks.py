@@ -262,7 +262,11 @@ def main(work):
     from paint_relief.addon.painting import animation_source, jobs, ops_animation, scene_render
 
     ops = bpy.ops.paint_relief
-    painter = dependencies.problem() is None
+    try:
+        missing = dependencies.problem()
+    except ValueError as error:  # a checkout holding ./wheels/, on a Python without SciPy: no extension folder
+        missing = str(error)
+    painter = missing is None
     RESULTS["painter"] = painter
     RESULTS["blender_version"] = list(bpy.app.version)
 
@@ -316,7 +320,7 @@ def main(work):
     @timed
     def paint_the_scene():
         if not painter:
-            return {"skipped": dependencies.problem()}
+            return {"skipped": missing}
         scene = build_scene(bpy, work)
         out = os.path.join(work, "scene_painted")
         scene.paint_relief.animation_source = "SCENE"
@@ -334,7 +338,7 @@ def main(work):
         """The interactive operator's own steps (``ModalDriver``): Esc between rendered frames, Paint Animation
         again and Esc while painting frame 3, Paint Animation again to the end; against a run never stopped."""
         if not painter:
-            return {"skipped": dependencies.problem()}
+            return {"skipped": missing}
         scene = build_scene(bpy, work)
         settings = scene.paint_relief
         settings.animation_source = "SCENE"
@@ -425,7 +429,7 @@ def main(work):
     def bad_sources():
         """Each wrong source is refused by the operator with one sentence and writes nothing."""
         if not painter:
-            return {"skipped": dependencies.problem()}
+            return {"skipped": missing}
         scene = build_scene(bpy, work)
         settings = scene.paint_relief
         os.makedirs(os.path.join(work, "no_frames_here"), exist_ok=True)
