@@ -5,8 +5,9 @@ frame before by the motion (``carry``), lays the settled ones at full
 contact on a judging canvas, and runs the still painter's layers and detail
 pass against it where the carried painting leaves the canvas bare or wrong
 (``birth_places``): there strokes are born, streams keyed by (seed, frame,
-layer, visit). The frame shown is every stroke laid in order at its fade
-contact; when none is fading, that is the judging canvas itself.
+layer, visit), and the carried strokes anchored there start to fade out.
+The frame shown is every stroke laid in order at its fade contact; when
+none is fading, that is the judging canvas itself.
 """
 
 from __future__ import annotations
