@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """User interface: the Paint Relief tab of the 3D Viewport sidebar (N panel).
 
-A parent panel shows which painting the scene uses; sub-panels Paint, Canvas,
-Lighting and Compare hold the settings and the operators. Buttons are greyed out by
+A parent panel shows which painting the scene uses; sub-panels Paint, Paint
+Animation, Canvas, Lighting and Compare hold the settings and the operators. Buttons are greyed out by
 the operators' poll() until they can run.
 """
 
@@ -12,6 +12,7 @@ import bpy
 from bpy.types import Panel
 
 from . import values
+from .painting import animation_source
 from .settings import properties
 from .settings.presets import PAINT_RELIEF_MT_paint_presets
 
@@ -82,6 +83,50 @@ class VIEW3D_PT_paint_relief_paint(_PaintReliefPanel, Panel):
         layout.operator("paint_relief.paint", icon="BRUSH_DATA")
 
 
+class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
+    """Paint an image sequence or the scene's animation with strokes that follow the motion"""
+
+    bl_label = "Paint Animation"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self._layout()
+        scene = context.scene
+        settings = scene.paint_relief
+        layout.prop(settings, "animation_source", expand=True)
+        source = settings.animation_source
+        if source == "SCENE" and scene.camera is None:
+            layout.label(text="The scene has no active camera to render", icon="ERROR")
+        elif source == "SCENE":
+            render = scene.render
+            scale = render.resolution_percentage / 100.0
+            row = layout.row()
+            row.alignment = "RIGHT"
+            row.label(text="Frames {} to {}, {} x {} px, {}, view layer {}".format(
+                scene.frame_start, scene.frame_end, int(render.resolution_x * scale),
+                int(render.resolution_y * scale), render.engine.replace("BLENDER_", "").title(),
+                context.view_layer.name), icon="RENDER_ANIMATION")
+        elif source == "IMAGE":
+            layout.prop(settings, "animation_image")
+        elif source == "FOLDER":
+            layout.prop(settings, "animation_folder")
+        else:
+            layout.prop(settings, "animation_pattern")
+        layout.prop(settings, "animation_fade_frames")
+        layout.prop(settings, "animation_output_dir")
+        if not settings.animation_output_dir:
+            if settings.animation_key and settings.animation_dir:
+                layout.prop(settings, "animation_dir", text="Stopped Run")
+            else:
+                row = layout.row()
+                row.alignment = "RIGHT"
+                row.label(text=os.path.join(properties.paintings_parent(context), values.folder_stem(
+                    animation_source.source_name(settings, scene)) + "_NNN"), icon="INFO")
+        layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
+        layout.operator("paint_relief.paint_animation", icon="RENDER_ANIMATION")
+
+
 class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
     """The canvas object: physical size, paint thickness and how the relief is made"""
 
@@ -144,6 +189,7 @@ class VIEW3D_PT_paint_relief_compare(_PaintReliefPanel, Panel):
 classes = (
     VIEW3D_PT_paint_relief,
     VIEW3D_PT_paint_relief_paint,
+    VIEW3D_PT_paint_relief_animation,
     VIEW3D_PT_paint_relief_canvas,
     VIEW3D_PT_paint_relief_lighting,
     VIEW3D_PT_paint_relief_compare,

@@ -226,3 +226,111 @@ def next_painting_folder(parent, image_path, digits=3):
         if not os.path.exists(folder):
             return folder
         counter += 1
+
+
+# --- image sequences and the scene's render (Paint Animation) ----------------------
+
+def numbered_file(path):
+    """How Blender reads an image sequence from one of its files: ``(pattern, number)``.
+
+    The last run of digits in the file name's stem is the frame number; the
+    pattern has it replaced by as many ``#`` (``/a/shot_0005.png`` ->
+    ``("/a/shot_####.png", 5)``). ValueError (one sentence) when the name
+    holds no digits.
+    """
+    import os
+    import re
+
+    folder, name = os.path.split(str(path))
+    stem, extension = os.path.splitext(name)
+    runs = list(re.finditer(r"\d+", stem))
+    if not runs:
+        raise ValueError("The file name {} holds no frame number, so it starts no image sequence.".format(name))
+    last = runs[-1]
+    pattern = stem[:last.start()] + "#" * (last.end() - last.start()) + stem[last.end():] + extension
+    return os.path.join(folder, pattern), int(last.group())
+
+
+def sequence_file(pattern, number):
+    """The file of frame ``number`` in a pattern whose last run of ``#`` is the zero-padded frame number
+    (more digits when the number needs them, as Blender writes): ``("shot_####.png", 12)`` -> ``"shot_0012.png"``."""
+    import os
+    import re
+
+    folder, name = os.path.split(str(pattern))
+    runs = list(re.finditer(r"#+", name))
+    if not runs:
+        raise ValueError("The frame pattern {} holds no '#' for the frame number.".format(name))
+    last = runs[-1]
+    digits = "{:0{}d}".format(number, last.end() - last.start())
+    return os.path.join(folder, name[:last.start()] + digits + name[last.end():])
+
+
+def render_file_stem(number):
+    """The scene render's file name of frame ``number`` without its extension: ``frame_0012`` (the painter
+    numbers the painted frames from it). ValueError (one sentence) for a negative frame."""
+    if number < 0:
+        raise ValueError("Frame {} is negative: Paint Animation renders frames from 0 on; move the scene's "
+                         "frame range.".format(number))
+    return "frame_{:04d}".format(number)
+
+
+def escape_render_path(path, templates):
+    """``path`` as a literal render output path: with ``templates`` (Blender 5.0 and later read ``{name}`` in
+    output paths as a variable) every brace is doubled, so a folder named ``a{b}`` stays ``a{b}``."""
+    path = str(path)
+    return path.replace("{", "{{").replace("}", "}}") if templates else path
+
+
+def render_progress(rendered, count, painted):
+    """The whole run's progress in [0, 1] for the scene's animation: rendering ``rendered`` of ``count``
+    frames fills the first half, painting (``painted`` in [0, 1]) the second."""
+    if count <= 0:
+        return painted
+    return 0.5 * min(rendered, count) / count + 0.5 * painted
+
+
+def sequence_folder_state(folder):
+    """What a painted folder holds, from its report.json: ``"empty"`` (no report: nothing painted yet, or no
+    folder), ``"still"`` (a still painting), ``"unfinished"`` or ``"complete"`` (a painted sequence), or
+    ``"unreadable"`` (a report that cannot be read)."""
+    import json
+    import os
+
+    path = os.path.join(str(folder), "report.json")
+    if not os.path.isfile(path):
+        return "empty"
+    try:
+        with open(path, encoding="utf-8") as stream:
+            report = json.load(stream)
+    except (OSError, ValueError):
+        return "unreadable"
+    if not isinstance(report, dict) or "sequence" not in report:
+        return "still"
+    return "complete" if report.get("complete") else "unfinished"
+
+
+def is_inside(path, parent):
+    """True when the folder or file ``path`` is ``parent`` or lies inside it (symbolic links resolved)."""
+    import os
+
+    path, parent = os.path.realpath(str(path)), os.path.realpath(str(parent))
+    try:
+        return os.path.commonpath([path, parent]) == parent
+    except ValueError:  # different drives
+        return False
+
+
+def sequence_folder_inputs(folder):
+    """The input frame files (as written in its report.json) of the sequence painted in ``folder``; None when
+    it holds no readable sequence report."""
+    import json
+    import os
+
+    try:
+        with open(os.path.join(str(folder), "report.json"), encoding="utf-8") as stream:
+            report = json.load(stream)
+    except (OSError, ValueError):
+        return None
+    inputs = report.get("input") if isinstance(report, dict) and "sequence" in report else None
+    return [str(path) for path in inputs] if isinstance(inputs, list) else None

@@ -28,7 +28,7 @@ from core.motion import comes_back, visible_in_both
 from core.motion.warp import bilinear, pixel_positions
 from core.params import Params, SequenceSettings
 from core.progress import Stage
-from core.sequence.frame_step import FrameMotion, first_frame, next_frame
+from core.sequence.frame_step import FrameMotion, first_frame, next_frame, unchanged
 from core.sequence.shot import paint_sequence
 from core.strokes.stroke_list import PAINTING_BRUSH
 
@@ -87,6 +87,24 @@ def test_a_still_clip_paints_every_frame_as_the_first(tmp_path):
             assert read_exr(tmp_path / f"out/{name}_{number:04d}.exr")[0].tobytes() == first.tobytes(), name
     pngs = [(tmp_path / f"out/painting_{n:04d}.png").read_bytes() for n in (1, 2, 3)]
     assert pngs[0] == pngs[1] == pngs[2]
+
+
+def test_next_frame_of_a_still_frame_is_the_frame_before_so_a_still_stretch_is_painted_once():
+    picture = moved_photo((90, 120), (0, 0))
+    params = Params(seed=2)
+    first = first_frame(picture, params, 3, NO_STAGE)
+    still = uniform_motion(picture.shape[:2], (0.0, 0.0))
+    assert unchanged(first, picture, picture, still)
+    second = next_frame(first, 1, picture, still, params, NO_STAGE)
+    assert second.born == 0 and second.died == 0
+    for name in ("colour", "height", "opacity", "coverage"):
+        assert getattr(second.canvas, name).tobytes() == getattr(first.canvas, name).tobytes(), name
+    for name in ("error", "opacity"):
+        assert getattr(second, name).tobytes() == getattr(first, name).tobytes(), name
+    assert np.array_equal(second.living.ident, first.living.ident)
+    assert second.living.strokes.bristles.tobytes() == first.living.strokes.bristles.tobytes()
+    assert not unchanged(first, picture, picture * np.float32(0.99), still)
+    assert not unchanged(first, picture, picture, uniform_motion(picture.shape[:2], (0.5, 0.0)))
 
 
 def square_scene(shape: tuple, left: int, size: int = 36) -> np.ndarray:

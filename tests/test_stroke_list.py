@@ -199,3 +199,25 @@ def test_a_strokes_contact_factor_fades_it(painting):
     assert same_maps(laid(strokes.subset(~last), shape, params),
                      laid(dataclasses.replace(strokes, contact=np.where(last, 0.0, 1.0).astype(np.float32)), shape,
                           params))
+
+
+def test_a_fading_stroke_over_thick_paint_moves_the_relief_part_way_and_digs_no_dip(painting):
+    """Over paint twice as thick as a stroke, a stroke at full contact lays its own height (about 1), a stroke at
+    contact c moves the height only about c of the way down to it: a fading stroke is a thinner coat, not a hole."""
+    strokes, params, shape = painting.stroke_list, painting.params, painting.height.shape
+    one = strokes.subset([int(np.argmax(strokes.size))])
+    tips = stroke_tips(one, params)
+
+    def over_thick(contact: float) -> Canvas:
+        canvas = Canvas.blank(shape, params.canvas_colour)
+        canvas.height[...] = 2.0
+        lay_strokes(canvas, dataclasses.replace(one, contact=np.array([contact], np.float32)), tips, params)
+        return canvas
+
+    full = over_thick(1.0)
+    body = full.opacity > 0.95                               # where the stroke at full contact covers fully
+    assert body.sum() > 20 and full.height[body].max() < 1.6
+    for contact in (1 / 3, 2 / 3):
+        lowered = 2.0 - over_thick(contact).height[body]
+        assert lowered.max() <= contact * (2.0 - full.height[body].min()) + 0.05, contact
+        assert lowered.mean() > 0.5 * contact * (2.0 - full.height[body].mean()), contact

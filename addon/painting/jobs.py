@@ -20,13 +20,16 @@ def is_running(scene):
 
 
 def begin(scene):
-    """Record that a painting of ``scene`` starts; ValueError (one sentence) when one runs already."""
+    """Record that a painting of ``scene`` starts and return its key for ``end``; ValueError (one sentence)
+    when one runs already."""
     if _key(scene) in _running:
         raise ValueError("A painting is already running in scene {}: wait for it to finish or press Esc to "
                          "cancel it.".format(scene.name))
     _running.add(_key(scene))
+    return _key(scene)
 
 
 def end(scene):
-    """Record that the painting of ``scene`` ended (finished, failed or cancelled)."""
-    _running.discard(_key(scene))
+    """Record that the painting of ``scene`` (a scene, or the key ``begin`` returned, which stays usable once
+    the scene is gone) ended (finished, failed or cancelled)."""
+    _running.discard(scene if isinstance(scene, int) else _key(scene))

@@ -95,10 +95,12 @@ def _prepare(operator, context):
         image_path = source_path(settings)
         mask = mask_path(settings)
         params = params_from_settings(settings).validate()
+        out_dir = properties.output_dir(context)
+        properties.check_output_folder(out_dir)
     except (ValueError, core.PaintReliefError) as error:
         operator.report({"ERROR"}, str(error))
         return None
-    return image_path, properties.output_dir(context), params, mask
+    return image_path, out_dir, params, mask
 
 
 def _finish(operator, context, report):

@@ -67,6 +67,44 @@ def comparison_dir(context, painting_dir):
     return os.path.join(painting_dir, "comparison")
 
 
+def animation_output_dir(context, key, name):
+    """Return the absolute folder the next Paint Animation paints into.
+
+    The user's ``animation_output_dir`` when set (a run into a folder that
+    holds an unfinished sequence goes on with it). Else the folder of the
+    scene's last Paint Animation when that run stopped before its last frame
+    (or before its first, when only the scene's rendered frames are there)
+    and ran with ``key`` (``animation_source.source_key``: the source, the
+    painter's parameters and the fade), so that pressing Paint Animation
+    again goes on with it. Else a new folder ``<name>_<counter>`` (``name``:
+    the source's) inside :func:`paintings_parent`.
+    """
+    settings = context.scene.paint_relief
+    if settings.animation_output_dir:
+        return os.path.normpath(bpy.path.abspath(settings.animation_output_dir))
+    last = os.path.normpath(bpy.path.abspath(settings.animation_dir)) if settings.animation_dir else ""
+    if last and settings.animation_key == key and values.sequence_folder_state(last) in ("empty", "unfinished"):
+        return last
+    return values.next_painting_folder(paintings_parent(context), name)
+
+
+def check_output_folder(folder):
+    """Raise ValueError (one sentence) when ``folder`` lies inside the extension's own folder or its user
+    folder, which Blender replaces or deletes when the extension is updated or uninstalled."""
+    from .preferences import EXTENSION_PACKAGE
+
+    package_folder = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    guarded = [package_folder]
+    try:
+        guarded.append(bpy.utils.extension_path_user(EXTENSION_PACKAGE, create=False))
+    except (ValueError, RuntimeError, AttributeError):
+        pass  # not installed as an extension (run from a checkout): only its own folder is guarded
+    for parent in guarded:
+        if values.is_inside(folder, parent):
+            raise ValueError("The output folder {} is inside the extension's folder {}, which Blender deletes when "
+                             "the extension is updated or removed: choose another folder.".format(folder, parent))
+
+
 def _update_relief(self, context):
     """Live update: the scene's canvases take the new paint thickness at once (no rebuild)."""
     from ..scene import canvas
@@ -298,6 +336,69 @@ class PaintReliefSettings(PropertyGroup):
         options=_PATH_OPTIONS,
     )
 
+
+    # --- Paint Animation ---
+    animation_source: EnumProperty(
+        name="Source",
+        description="What Paint Animation paints",
+        items=(
+            ("SCENE", "Scene", "This scene's animation over its frame range, rendered with its own engine and "
+             "painted with the motion Blender renders (the Vector pass)"),
+            ("IMAGE", "Image", "An image sequence of this .blend file (an image whose source is Image Sequence)"),
+            ("FOLDER", "Folder", "A folder of numbered frames (PNG, JPEG, TIFF or EXR, multilayer EXR included)"),
+            ("PATTERN", "Pattern", "Frame files named by a pattern whose '#' stand for the frame number, such as "
+             "//render/frame_####.exr"),
+        ),
+        default="SCENE",
+    )
+    animation_image: PointerProperty(
+        name="Image Sequence",
+        description="Image sequence of this .blend file to paint (frames on disk)",
+        type=bpy.types.Image,
+        poll=lambda self, image: image.source == "SEQUENCE",
+    )
+    animation_folder: StringProperty(
+        name="Frames Folder",
+        description="Folder of the frames to paint, in the order of the frame numbers in their names",
+        subtype="DIR_PATH",
+        options=_PATH_OPTIONS,
+    )
+    animation_pattern: StringProperty(
+        name="Frame Pattern",
+        description="Path of the frames with '#' for the zero-padded frame number, such as //render/frame_####.exr",
+        subtype="FILE_PATH",
+        options=_PATH_OPTIONS,
+    )
+    animation_fade_frames: IntProperty(
+        name="Fade",
+        description="Frames a stroke takes to fade in when it is born and to fade out when it dies",
+        default=3, min=1, max=100,
+    )
+    animation_output_dir: StringProperty(
+        name="Output Folder",
+        description=(
+            "Folder for the painted frames (a run into a folder holding an unfinished painted animation goes on "
+            "with it). Leave empty to give every animation a new folder named after its source, where still "
+            "paintings go"
+        ),
+        subtype="DIR_PATH",
+        options=_PATH_OPTIONS,
+    )
+    animation_dir: StringProperty(
+        name="Animation",
+        description=(
+            "Folder of the frames the last Paint Animation of this scene painted. While that run is stopped "
+            "before its last frame, Paint Animation with the same source and settings goes on with it: clear "
+            "this to start a new folder instead"
+        ),
+        subtype="DIR_PATH",
+        options=_PATH_OPTIONS,
+    )
+    animation_key: StringProperty(
+        name="Animation Run",
+        description="What the last Paint Animation painted and how (so that pressing it again goes on with it)",
+        options={"HIDDEN"},
+    )
 
 classes = (PaintReliefSettings,)
 

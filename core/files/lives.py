@@ -70,6 +70,7 @@ import numpy as np
 
 from ..errors import InputError, OutputError, plain_cause
 from .image_files import PathLike
+from .staging import fsync_folder
 from .writing import atomic_path
 
 LIVES_FILE = "strokes.lives"
@@ -158,23 +159,8 @@ def _create(path: pathlib.Path, data: bytes) -> int:
                 os.fsync(f.fileno())
         except OSError as exc:
             raise _output_error(path, exc) from exc
-    _sync_folder(path.parent)
+    fsync_folder(path.parent)
     return len(data)
-
-
-def _sync_folder(folder: pathlib.Path) -> None:
-    """Flush the folder's entry of a renamed file where the system allows it (not on Windows, which cannot open
-    a folder as a file and keeps the rename itself)."""
-    try:
-        descriptor = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(descriptor)
-    except OSError:
-        pass
-    finally:
-        os.close(descriptor)
 
 
 def _append(path: pathlib.Path, record: bytes, frame: int, committed_bytes: int) -> int:

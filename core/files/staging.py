@@ -62,7 +62,7 @@ def _fsync_file(path: pathlib.Path) -> None:
         os.close(fd)
 
 
-def _fsync_dir(path: pathlib.Path) -> None:
+def fsync_folder(path: pathlib.Path) -> None:
     """Flush a folder's entries (renames, new files) to disk where the platform allows it."""
     try:
         fd = os.open(path, os.O_RDONLY)
@@ -88,12 +88,12 @@ def _roll_forward(folder: pathlib.Path, staging_name: str, names: List[str]) -> 
         source = staging / name
         if os.path.lexists(source):
             os.replace(source, folder / name)
-    _fsync_dir(folder)
+    fsync_folder(folder)
     try:
         (folder / JOURNAL_NAME).unlink()
     except FileNotFoundError:
         pass
-    _fsync_dir(folder)
+    fsync_folder(folder)
     shutil.rmtree(staging, ignore_errors=True)
 
 
@@ -193,7 +193,7 @@ class OutputFolder:
                     _fsync_file(staging / name)
                 except OSError as exc:
                     raise OutputError(f"Cannot write {name}: {_why(exc)}.", staging / name, _why(exc)) from exc
-            _fsync_dir(staging)
+            fsync_folder(staging)
         except BaseException as exc:
             with signals.deferred():
                 shutil.rmtree(staging, ignore_errors=True)
@@ -242,7 +242,7 @@ class OutputFolder:
             with contextlib.suppress(OSError):
                 temp.unlink()
             raise OutputError(f"Cannot write to output folder {self.folder}: {_why(exc)}.") from exc
-        _fsync_dir(self.folder)
+        fsync_folder(self.folder)
         try:
             _roll_forward(self.folder, staging.name, names)
         except OSError as exc:

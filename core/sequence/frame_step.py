@@ -5,8 +5,9 @@ frame before by the motion (``carry``), lays the settled ones at full
 contact on a judging canvas, and runs the still painter's layers and detail
 pass against it where the carried painting leaves the canvas bare or wrong
 (``birth_places``): there strokes are born, streams keyed by (seed, frame,
-layer, visit). The frame shown is every stroke laid in order at its fade
-contact; when none is fading, that is the judging canvas itself.
+layer, visit), and the carried strokes anchored there start to fade out.
+The frame shown is every stroke laid in order at its fade contact; when
+none is fading, that is the judging canvas itself.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from ..progress import Stage
 from ..strokes.brush import BrushTip, brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import size_map
+from ..strokes.path import nearest_pixels
 from ..strokes.streams import frame_seed
 from ..strokes.stroke import colour_sources, detail_sources
 from ..strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeRecorder, lay_strokes
@@ -54,9 +56,10 @@ class PaintedFrame(NamedTuple):
     living: LivingStrokes       # its strokes in laying order
     canvas: Canvas              # the frame as shown (colour clipped to [0, 1])
     orientation: np.ndarray     # float32 (H, W) radians [0, pi), the frame's orientation field (Eq. 3)
-    error: np.ndarray           # float32 (H, W) the canvas's distance from the reference (``colour_distance``)
-                                #   where its strokes were laid, carried with the motion since
-    opacity: np.ndarray         # float32 (H, W) [0, 1] the judging canvas's opacity
+    error: np.ndarray           # float32 (H, W) the settled canvas's distance from the reference
+                                #   (``colour_distance``) when its strokes there were laid, carried with the motion
+    fresh: np.ndarray           # bool (H, W) strokes may have been born here: its ``error`` is taken anew next frame
+    opacity: np.ndarray         # float32 (H, W) [0, 1] the judging canvas's opacity, births laid
     next_ident: int             # the identity the next stroke born gets
     born: int                   # strokes born on this frame
     died: int                   # strokes gone since the frame before (occluded, or faded out)
@@ -71,7 +74,7 @@ def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stag
     living = LivingStrokes.born(painting.stroke_list, 0, 0, fade_frames, fade_frames)
     canvas = Canvas(painting.colour, painting.coverage, painting.height, painting.opacity)
     return PaintedFrame(living, canvas, painting.orientation, colour_distance(painting.colour, painting.analysis.reference),
-                        painting.opacity, len(living), len(living), 0,
+                        np.zeros(image.shape[:2], bool), painting.opacity, len(living), len(living), 0,
                         {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes})
 
 
@@ -94,9 +97,11 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     judging = Canvas.blank(shape, params.canvas_colour)
     lay_strokes(judging, living.settled().strokes, tips, params)
     came_from = pixel_positions(*shape) + motion.backward
-    laid_error = bilinear(previous.error, came_from)
-    eligible = birth_places(judging, analysis.reference, laid_error, bilinear(previous.opacity, came_from),
-                            motion.seen_before, params)
+    error = colour_distance(judging.colour, analysis.reference)
+    laid_error = np.where(nearest(previous.fresh, came_from), error, bilinear(previous.error, came_from))
+    eligible = birth_places(judging, error, laid_error, bilinear(previous.opacity, came_from), motion.seen_before,
+                            params)
+    living, gone = living.fading_out(anchored_in(living.strokes.anchor, eligible))
     recorder = StrokeRecorder()
     births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
     paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
@@ -108,11 +113,34 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
     np.clip(judging.colour, 0.0, 1.0, out=judging.colour)
-    error = np.where(eligible, colour_distance(judging.colour, analysis.reference), laid_error)
     shown = judging if frame.at_full_contact() else laid(frame, tips, params, shape)
     clock.lap("laying")
-    return PaintedFrame(frame, shown, analysis.orientation, error, judging.opacity,
-                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded, clock.seconds)
+    return PaintedFrame(frame, shown, analysis.orientation, laid_error, eligible, judging.opacity,
+                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded + gone,
+                        clock.seconds)
+
+
+def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray, motion: FrameMotion) -> bool:
+    """Whether ``next_frame`` would give ``previous`` again: the frames are equal and nothing moves, no stroke of
+    ``previous`` is fading, and its judging canvas was the frame shown (no stroke was born on top of it: its
+    opacity is the shown frame's). Then every stroke stays where and as it is, none dies and none is born, so a
+    still stretch of a shot is painted once."""
+    living = previous.living
+    return (np.array_equal(image, next_image) and not motion.forward.any() and not motion.backward.any()
+            and bool(np.all(living.level == living.fade_frames)) and not living.dying.any()
+            and np.array_equal(previous.opacity, previous.canvas.opacity) and not previous.fresh.any())
+
+
+def anchored_in(anchors: np.ndarray, places: np.ndarray) -> np.ndarray:
+    """(N,) bool: which of N ``anchors`` (N, 2) px lie on a pixel where the (H, W) bool ``places`` holds."""
+    rows, cols = nearest_pixels(places.shape, anchors[:, 0], anchors[:, 1])
+    return places[rows, cols]
+
+
+def nearest(mask: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """(H, W) bool: (H, W) ``mask`` at the pixels nearest (H, W, 2) (x, y) ``positions`` (clamped to the frame)."""
+    rows, cols = nearest_pixels(mask.shape, positions[..., 0], positions[..., 1])
+    return mask[rows, cols]
 
 
 class Clock:
@@ -129,19 +157,20 @@ class Clock:
         self.start = now
 
 
-def birth_places(judging: Canvas, reference: np.ndarray, laid_error: np.ndarray, opacity_before: np.ndarray,
+def birth_places(judging: Canvas, error: np.ndarray, laid_error: np.ndarray, opacity_before: np.ndarray,
                  seen_before: np.ndarray, params: Params) -> np.ndarray:
     """(H, W) bool: where frame t+1's grids may get new strokes, the carried strokes laid on ``judging``.
 
     Pixels not ``seen_before`` (disoccluded); bare (opacity below T_c) where frame t's ``opacity_before`` was not and
-    was more than BARED higher; or whose canvas colour is more than T_d further from the ``reference`` (H, W, 3)
-    than it was where its strokes were laid (``laid_error``, carried with the motion, so a slow drift is caught
-    as surely as a jump). Frame t's maps are taken where each pixel came from. Where the carried painting is as bare
-    or as wrong as when it was laid, the still painter left it so: nothing is born.
+    was more than BARED higher; or whose ``error`` (``colour_distance`` of the canvas from the reference) is more than
+    T_d above what it was when its strokes were laid (``laid_error``, carried with the motion, so a slow drift is
+    caught as surely as a jump). Frame t's maps are taken where each pixel came from. Where the carried painting is
+    as bare or as wrong as when it was laid, the still painter left it so: nothing is born. A pixel where strokes
+    may have been born takes the error of the next frame's carried canvas as its own (``PaintedFrame.fresh``), so
+    a flaw the births did not mend is not painted over again and again.
     """
     bared = ((judging.opacity < params.coverage_threshold) & (opacity_before >= params.coverage_threshold)
              & (opacity_before - judging.opacity > BARED))
-    error = colour_distance(judging.colour, reference)
     return ~seen_before | bared | (error > laid_error + np.float32(params.difference_threshold))
 
 

@@ -12,7 +12,7 @@ polygon at birth (what stretching is measured against).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import List
+from typing import List, Tuple
 
 import numpy as np
 
@@ -80,6 +80,14 @@ class LivingStrokes:
         if np.array_equal(order, np.arange(len(self))):
             return self
         return self.subset(order)
+
+    def fading_out(self, stale: np.ndarray) -> Tuple["LivingStrokes", int]:
+        """The strokes with those ``stale`` (N,) bool and not dying yet starting to fade out (one level down, as on
+        their first frame of dying), and how many of them were gone at once (a newborn at its first level)."""
+        starting = stale & ~self.dying
+        level = np.where(starting, self.level - 1, self.level).astype(np.int32)
+        stepped = replace(self, level=level, dying=self.dying | starting)
+        return stepped.subset(level > 0).with_contact(), int(np.count_nonzero(level == 0))
 
     def with_contact(self) -> "LivingStrokes":
         """The same strokes with the list's contact set from their fade level: level / fade_frames."""

@@ -40,7 +40,7 @@ from ..motion.optical_flow import SEQUENCE_MEGAPIXELS
 from ..params import Params, SequenceSettings, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
-from .frame_step import FrameMotion, PaintedFrame, first_frame, frame_tips, laid, next_frame
+from .frame_step import FrameMotion, PaintedFrame, first_frame, frame_tips, laid, next_frame, unchanged
 from .state import STATE_FILE, load_state, save_state
 
 REPORT_FILE = "report.json"
@@ -173,7 +173,10 @@ class Run:
                 clock = time.perf_counter()
                 motion = frame_motion(image, next_image, vectors, next_vectors)
                 seconds["motion"] = time.perf_counter() - clock
-                painted = next_frame(previous, index, next_image, motion, self.params, stage)
+                if unchanged(previous, image, next_image, motion):
+                    painted = previous._replace(born=0, died=0, seconds={})
+                else:
+                    painted = next_frame(previous, index, next_image, motion, self.params, stage)
                 clock = time.perf_counter()
                 measures = pair_measures(image, next_image, previous.canvas, painted.canvas, motion)
                 seconds["measures"] = time.perf_counter() - clock
@@ -223,9 +226,11 @@ def frame_progress(progress: ProgressFn, number: int, index: int, count: int) ->
 def frame_motion(image: np.ndarray, next_image: np.ndarray, vectors: Optional[np.ndarray],
                  next_vectors: Optional[np.ndarray]) -> FrameMotion:
     """The motion between two frames: from their Vector passes (``vectors``, ``next_vectors``) when they have them,
-    else optical flow both ways; with which pixels of each are visible in both."""
+    else optical flow both ways (none between equal frames); with which pixels of each are visible in both."""
     if vectors is not None:
         forward, backward = motion_pair(vectors, next_vectors)
+    elif np.array_equal(image, next_image):
+        forward = backward = np.zeros(image.shape[:2] + (2,), np.float32)
     else:
         forward = optical_flow(image, next_image, SEQUENCE_MEGAPIXELS)
         backward = optical_flow(next_image, image, SEQUENCE_MEGAPIXELS)

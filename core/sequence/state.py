@@ -42,7 +42,7 @@ def save_state(path: Path, frame: PaintedFrame, index: int, lives_bytes: int) ->
     living = frame.living
     arrays = {f"list_{name}": getattr(living.strokes, name) for name in _LIST_FIELDS}
     arrays.update({f"life_{name}": getattr(living, name) for name in _LIFE_FIELDS})
-    arrays.update(error=frame.error, opacity=frame.opacity,
+    arrays.update(error=frame.error, fresh=frame.fresh, opacity=frame.opacity,
                   counters=np.array([index, lives_bytes, frame.next_ident, living.fade_frames, frame.born,
                                      frame.died], np.int64))
     with open(path, "wb") as stream:
@@ -61,5 +61,5 @@ def load_state(path: Path) -> SavedState:
     except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
         raise InputError(f"The sequence state {path} cannot be read ({exc}); paint the sequence into a new "
                          f"folder.") from exc
-    return SavedState(PaintedFrame(living, None, None, arrays["error"], arrays["opacity"], next_ident, born, died, {}),
+    return SavedState(PaintedFrame(living, None, None, arrays["error"], arrays["fresh"], arrays["opacity"], next_ident, born, died, {}),
                       index, lives_bytes)

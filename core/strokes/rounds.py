@@ -283,16 +283,24 @@ def in_runs(plan: RoundPlan, size: int, tip: BrushTip, work) -> list:
 
 
 def strokes_footprints(plan: RoundPlan, size: int, tip: BrushTip, params: Params, shape: tuple) -> Footprints:
-    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together; each stamp's
-    contact (``stamp_paths``) times its stroke's ``plan.contact`` when there is one."""
+    """The ``Footprints`` of a plan's strokes on a canvas of ``shape`` (H, W), made together. A stroke's
+    ``plan.contact`` c below 1 (a fading stroke) presses the brush c as hard (each stamp's contact times c) and
+    counts its full deposit as the stroke's at full contact (``Footprints.full`` / c): it lays a thinner coat that
+    covers c as fully, so it moves the relief c of the way to its own height rather than replacing the paint
+    beneath with a thin one (``canvas.composite``)."""
     stamps = stamp_paths(plan.paths, plan.angles, size, params)
     contact = stamps.contact
     if plan.contact is not None:
         contact = contact * np.repeat(np.asarray(plan.contact, np.float32), np.diff(stamps.starts))
     rows = max(1.0, tip.length)
-    return track_footprints(stamps.points, stamps.directions, stamps.starts, tip, plan.colours, shape,
-                            passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=stamps.relief,
-                            bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
+    footprints = track_footprints(stamps.points, stamps.directions, stamps.starts, tip, plan.colours, shape,
+                                  passes=max(1.0, MIN_ROWS / rows), contact=contact, stamp_relief=stamps.relief,
+                                  bristle_relief=ridge_profile(tip.across, tip.radius, params.ridge_height), rows=rows)
+    if plan.contact is not None and np.any(plan.contact < 1):
+        factor = np.asarray(plan.contact, np.float32)
+        faded = np.divide(footprints.full, factor, out=np.zeros_like(footprints.full), where=factor > 0)
+        footprints.full = np.where(factor < 1, faded, footprints.full)
+    return footprints
 
 
 def records(plan: RoundPlan, size: int, layer: int) -> List[Stroke]:
