@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The animation flow from the installed zip: a painted 4-frame sequence, its animated canvas, two Cycles frames,
+"""The animation flow from the installed zip: the scene's animation painted, its animated canvas, two Cycles frames,
 and the ``animate`` command.
 
 Run in its own process with BLENDER_USER_RESOURCES set to a throw-away folder::
@@ -7,11 +7,12 @@ Run in its own process with BLENDER_USER_RESOURCES set to a throw-away folder::
     BLENDER_USER_RESOURCES=/tmp/u python tests/shipped/animation.py PACKAGE.zip WORK_DIR
 
 Blender installs the zip as *Install from Disk* does; nothing of the checkout
-is imported. A tiny shot (4 PNG frames, numbered 11 to 14, a ball crossing
-stripes) is painted with the extension's ``core.paint_sequence_files``;
-Build Canvas makes the animated canvas; the evaluated relief is read at two
-frames; frames 11 and 14 are rendered with Cycles through the extension's
-film renderer; ``cli_command.execute(["animate", ...])`` runs the whole film.
+is imported. A tiny animated scene (frames 11 to 14: a checkered ball
+rolling past a brick wall, the camera panning) is painted by Paint Animation
+from the scene's own renders; Build Canvas makes the animated canvas; the
+evaluated relief is read at two frames; frames 11 and 14 are rendered with
+Cycles through the extension's film renderer; ``cli_command.execute(["animate",
+...])`` runs the whole film on a tiny shot of PNG frames.
 The last line printed is ``RESULTS <json>``, which test_animation.py asserts on.
 """
 
@@ -57,6 +58,50 @@ def write_shot(writing, folder):
     return folder
 
 
+def textured(bpy, name, texture, colours):
+    """A material whose base colour is a ``texture`` node ('ShaderNodeTexBrick' or 'ShaderNodeTexChecker')."""
+    material = bpy.data.materials.new(name)
+    if material.node_tree is None:  # Blender 4.2 makes the tree only with use_nodes
+        material.use_nodes = True
+    tree = material.node_tree
+    node = tree.nodes.new(texture)
+    node.inputs["Color1"].default_value, node.inputs["Color2"].default_value = colours
+    node.inputs["Scale"].default_value = 4.0
+    bsdf = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    tree.links.new(node.outputs["Color"], bsdf.inputs["Base Color"])
+    return material
+
+
+def animated_scene(bpy):
+    """The scene's animation, frames FIRST to FIRST + FRAMES - 1: a ball rolling past a wall, the camera panning."""
+    import math
+
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_plane_add(size=20.0, location=(0.0, 2.0, 0.0), rotation=(math.radians(90.0), 0.0, 0.0))
+    bpy.context.object.data.materials.append(
+        textured(bpy, "Wall", "ShaderNodeTexBrick", ((0.7, 0.3, 0.1, 1.0), (0.3, 0.1, 0.05, 1.0))))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(-1.5, 0.0, 0.0))
+    ball = bpy.context.object
+    ball.data.materials.append(
+        textured(bpy, "Ball", "ShaderNodeTexChecker", ((0.9, 0.85, 0.2, 1.0), (0.1, 0.25, 0.7, 1.0))))
+    bpy.ops.object.light_add(type="SUN", rotation=(math.radians(40.0), 0.0, math.radians(20.0)))
+    bpy.context.object.data.energy = 3.0
+    bpy.ops.object.camera_add(location=(0.0, -8.0, 0.0), rotation=(math.radians(90.0), 0.0, 0.0))
+    camera = bpy.context.object
+    scene.camera = camera
+    for index in range(FRAMES):
+        ball.location.x = -1.5 + 0.8 * index
+        camera.location.x = 0.1 * index
+        ball.keyframe_insert("location", frame=FIRST + index)
+        camera.keyframe_insert("location", frame=FIRST + index)
+    scene.frame_start, scene.frame_end = FIRST, FIRST + FRAMES - 1
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 2
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = WIDTH, HEIGHT, 100
+    return scene
+
+
 def main(zip_path, work):
     import bpy
 
@@ -71,7 +116,6 @@ def main(zip_path, work):
 
     # The painter's libraries as the extension finds them (Blender's own OpenImageIO, the zip's SciPy wheels).
     RESULTS["libraries"] = {"problem": sys.modules[MODULE + ".addon.dependencies"].problem()}
-    core = import_module(MODULE + ".core")
     writing = import_module(MODULE + ".core.files.writing")
     reading = import_module(MODULE + ".core.files.reading")
     animated = import_module(MODULE + ".addon.scene.animated")
@@ -81,16 +125,33 @@ def main(zip_path, work):
     scene = bpy.context.scene
     settings = scene.paint_relief
     frames_dir = write_shot(writing, os.path.join(work, "frames"))
-    sequence = os.path.join(work, "sequence")
+    sequence = os.path.join(work, "scene_painted")
 
     @step
-    def paint_sequence():
-        report = core.paint_sequence_files([frames_dir], sequence, core.Params(seed=1))
-        return {"frames": report["frames"], "motion": report["motion"],
-                "files": sorted(name for name in os.listdir(sequence) if name.startswith("height_"))}
+    def paint_the_scenes_animation():
+        animated_scene(bpy)
+        settings.animation_source = "SCENE"
+        settings.animation_output_dir = sequence
+        settings.stroke_sizes = "24,12,6"
+        settings.layers = 2
+        result, error = run_op(ops.paint_animation)
+        report = {}
+        if os.path.isfile(os.path.join(sequence, "report.json")):
+            with open(os.path.join(sequence, "report.json")) as file:
+                report = json.load(file)
+        return {"result": result, "error": error, "frames": report.get("frames"), "motion": report.get("motion"),
+                "painting_dir": settings.painting_dir,
+                "files": sorted(name for name in os.listdir(sequence) if name.startswith("height_"))
+                if os.path.isdir(sequence) else []}
 
     def canvas_object():
         return next(obj for obj in scene.objects if obj.get("paint_relief_role") == "canvas")
+
+    def hide_the_shot():
+        """The animated scene's own objects out of the renders: the camera frames the canvas alone."""
+        for obj in scene.objects:
+            if obj.get("paint_relief_role") is None:
+                obj.hide_render = obj.hide_viewport = True
 
     def heights(frame):
         scene.frame_set(frame)
@@ -103,8 +164,10 @@ def main(zip_path, work):
 
     @step
     def animated_canvas():
+        hide_the_shot()
         settings.painting_dir = sequence
         settings.displacement_method = "MESH"
+        scene.frame_start, scene.frame_end = 1, 250
         result, error = run_op(ops.build_canvas, frame_range=True)
         obj = canvas_object()
         readers = [{"file": os.path.basename(image.filepath), "source": image.source,

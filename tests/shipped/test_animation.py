@@ -1,5 +1,5 @@
-"""The animation flow from the installed zip: a painted 4-frame sequence, the animated canvas, two Cycles frames,
-the ``animate`` command (tests/shipped/animation.py), on every Blender `make test-shipped` builds."""
+"""The animation flow from the installed zip: the scene's 4-frame animation painted, the animated canvas, two
+Cycles frames, the ``animate`` command (tests/shipped/animation.py), on every Blender `make test-shipped` builds."""
 
 import pytest
 from conftest import run_script
@@ -22,12 +22,14 @@ def _step(animation, name):
     return found
 
 
-def test_the_sequence_is_painted_with_the_zips_libraries(animation):
+def test_paint_animation_paints_the_scenes_animation(animation):
     assert animation["install"]["result"] == ["FINISHED"] and animation["install"]["enabled"]
     assert animation["libraries"]["problem"] is None
-    found = _step(animation, "paint_sequence")
-    assert found["frames"] == list(range(FIRST, FIRST + FRAMES)) and found["motion"] == "optical flow"
+    found = _step(animation, "paint_the_scenes_animation")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["frames"] == list(range(FIRST, FIRST + FRAMES)) and found["motion"] == "vector pass"
     assert found["files"] == ["height_{:04d}.exr".format(n) for n in range(FIRST, FIRST + FRAMES)]
+    assert found["painting_dir"].endswith("scene_painted")
 
 
 def test_the_animated_canvas_follows_the_frame(animation):
