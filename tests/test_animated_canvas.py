@@ -138,6 +138,15 @@ def test_a_broken_sequence_is_refused_in_one_sentence(results):
 
 
 @pytest.mark.blender
+def test_a_sequence_painted_with_normal_maps_makes_a_normal_map_canvas(results):
+    step = _step(results, "normal_map_sequence")
+    assert step["result"] == ["FINISHED"], step["error"]
+    assert step["readers"] == [[name + "_0011.exr", "SEQUENCE", 2, 11]
+                               for name in ("color", "height", "normal", "opacity")]
+    assert step["modifiers"] == []  # a flat plane shaded by the normal maps
+
+
+@pytest.mark.blender
 def test_cycles_renders_each_frames_colour(results):
     errors = _step(results, "colour_renders_follow_the_frame")["mean_squared_error"]
     assert errors["11"]["11"] < 1e-3 and errors["14"]["14"] < 1e-3, errors

@@ -176,6 +176,23 @@ def main(work):
         return found
 
     @check
+    def normal_map_sequence():
+        normals = os.path.join(work, "sequence_normals")
+        core.paint_sequence_files([frames_dir], normals, params, core.SequenceSettings(normal_map=True),
+                                  frame_range="11-12")
+        settings.painting_dir = normals
+        settings.displacement_method = "NORMAL_MAP"
+        result, error = run_op(ops.build_canvas)
+        obj = canvas.find_role(scene, "canvas")
+        readers = sorted((os.path.basename(image.filepath), image.source, user.frame_duration, user.frame_start)
+                         for image, user in animated.image_readers(obj))
+        modifiers = [m.type for m in obj.modifiers]
+        bpy.data.objects.remove(obj)
+        settings.painting_dir = sequence
+        settings.displacement_method = "MESH"
+        return {"result": result, "error": error, "readers": readers, "modifiers": modifiers}
+
+    @check
     def colour_renders_follow_the_frame():
         # The colour map drives an Emission shader of strength 1 in a black world, so the render's scene-linear
         # pixels are the colour map's values at the frame rendered.
