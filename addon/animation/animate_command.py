@@ -39,6 +39,7 @@ the painter's ``light`` command and ``compare.py``. A bad input ends with one
 sentence on stderr and exit code 1 (2 for a malformed command line).
 """
 
+import argparse
 import importlib
 import os
 import sys
@@ -68,8 +69,6 @@ DEFAULT_ELEVATION = 30.0
 
 
 def _azimuth(text):
-    import argparse
-
     try:
         return float(text) % 360.0
     except ValueError:
@@ -221,6 +220,7 @@ def main(argv, prog=None):
 
         log.step("film", "Rendering {} frames at {} x {} px with Cycles, {} samples, light at {:g} degrees, elevation "
                  "{:g} degrees".format(len(frames), size[0], size[1], args.samples, args.azimuth, args.elevation))
+
         def progress(fraction, message):
             if message.startswith("Rendered"):
                 log.say("    {:3.0f}% {}".format(100 * fraction, message))
