@@ -140,8 +140,9 @@ class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
         layout.prop(settings, "canvas_width_cm")
         layout.prop(settings, "thickness_mm")
         layout.prop(settings, "displacement_method")
+        layout.prop(settings, "canvas_frame_range")
         row = layout.row(align=True)
-        row.operator("paint_relief.build_canvas", icon="MESH_PLANE")
+        row.operator("paint_relief.build_canvas", icon="MESH_PLANE").frame_range = settings.canvas_frame_range
         row.operator("paint_relief.reload_maps", icon="FILE_REFRESH")
         col = layout.column(heading="Add Camera Sets")
         col.prop(settings, "camera_match_resolution")

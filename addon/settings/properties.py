@@ -257,6 +257,11 @@ class PaintReliefSettings(PropertyGroup):
         default=2.0, min=0.0, soft_max=20.0, precision=2,
         update=_update_relief,
     )
+    canvas_frame_range: BoolProperty(
+        name="Set Frame Range",
+        description="Building a canvas of a painted sequence sets the scene's frame range to the sequence's frames",
+        default=False,
+    )
     displacement_method: EnumProperty(
         name="Displacement",
         description="How the paint's relief becomes geometry",
