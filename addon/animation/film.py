@@ -19,7 +19,7 @@ import time
 
 import bpy
 
-from ..comparison.compare import PIXEL_FILTER, PIXEL_FILTER_WIDTH, RENDER_SEED, restore
+from ..comparison.compare import cycles_attributes, restore
 from ..scene import animated, canvas
 
 MOVIE_FPS = 10
@@ -37,33 +37,9 @@ def frame_file(number):
 
 def film_attributes(scene, samples, denoise):
     """(owner, attribute, value) of every setting the film's renders need, in the order they are set."""
-    render, cycles = scene.render, scene.cycles
-    image = render.image_settings
-    view = scene.view_settings
-    settings = [
-        (render, "engine", "CYCLES"),
-        (cycles, "device", "CPU"),
-        (cycles, "samples", int(samples)),
-        (cycles, "use_adaptive_sampling", False),
-        (cycles, "use_denoising", bool(denoise)),
-        (cycles, "seed", RENDER_SEED),
-        (cycles, "use_animated_seed", False),
-        (cycles, "pixel_filter_type", PIXEL_FILTER),
-        (cycles, "filter_width", PIXEL_FILTER_WIDTH),
-        (render, "resolution_percentage", 100),
-        (render, "pixel_aspect_x", 1.0),
-        (render, "pixel_aspect_y", 1.0),
-        (render, "film_transparent", False),
-        (render, "use_border", False),
-        (render, "use_compositing", False),
-        (render, "use_sequencer", False),
-        (render, "use_motion_blur", False),
-        (view, "view_transform", "Standard"),
-        (view, "look", "None"),
-        (view, "exposure", 0.0),
-        (view, "gamma", 1.0),
-        (view, "use_curve_mapping", False),
-    ]
+    image = scene.render.image_settings
+    settings = cycles_attributes(scene, denoise) + [(scene.cycles, "samples", int(samples)),
+                                                    (scene.render, "use_motion_blur", False)]
     if hasattr(image, "media_type"):  # Blender 5.0: choose the media type before the format
         settings.append((image, "media_type", "IMAGE"))
     settings += [(image, "file_format", "PNG"), (image, "color_mode", "RGB"), (image, "color_depth", "8")]

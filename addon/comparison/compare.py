@@ -38,16 +38,17 @@ class SweepError(Exception):
     """The sweep cannot run or a render failed; the message is one sentence."""
 
 
-def _render_attributes(scene):
-    """(owner, attribute, value) of every setting :func:`configure_render` sets, in the order it sets them."""
+def cycles_attributes(scene, denoise=False):
+    """(owner, attribute, value) of the Cycles, film and view settings of a pixel-true render (the comparison's
+    and the relit film's): CPU, no adaptive sampling, ``denoise`` or not, a fixed seed, a one-pixel box filter,
+    100 % size, no border, compositing or sequencer, the 'Standard' view with no look, exposure or curve."""
     render, cycles = scene.render, scene.cycles
-    image = render.image_settings
     view = scene.view_settings
-    settings = [
+    return [
         (render, "engine", "CYCLES"),
         (cycles, "device", "CPU"),
         (cycles, "use_adaptive_sampling", False),
-        (cycles, "use_denoising", False),
+        (cycles, "use_denoising", bool(denoise)),
         (cycles, "seed", RENDER_SEED),
         (cycles, "use_animated_seed", False),
         (cycles, "pixel_filter_type", PIXEL_FILTER),
@@ -65,6 +66,12 @@ def _render_attributes(scene):
         (view, "gamma", 1.0),
         (view, "use_curve_mapping", False),
     ]
+
+
+def _render_attributes(scene):
+    """(owner, attribute, value) of every setting :func:`configure_render` sets, in the order it sets them."""
+    image = scene.render.image_settings
+    settings = cycles_attributes(scene)
     if hasattr(image, "media_type"):  # Blender 5.0: choose the media type before the format
         settings.append((image, "media_type", "IMAGE"))
     settings += [
