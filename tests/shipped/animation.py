@@ -19,28 +19,10 @@ The last line printed is ``RESULTS <json>``, which test_animation.py asserts on.
 import json
 import os
 import sys
-import traceback
 
-REPO = "user_default"
-MODULE = "bl_ext.{}.paint_relief".format(REPO)
-RESULTS = {}
+from steps import MODULE, REPO, RESULTS, run_op, step  # tests/shipped/steps.py, beside this script
+
 FIRST, FRAMES, WIDTH, HEIGHT = 11, 4, 64, 48
-
-
-def step(function):
-    try:
-        RESULTS[function.__name__] = function()
-    except Exception:
-        RESULTS[function.__name__] = {"exception": traceback.format_exc()}
-    return function
-
-
-def run_op(op, **kwargs):
-    """Call an operator; return (sorted result or None, error text)."""
-    try:
-        return sorted(op(**kwargs)), ""
-    except RuntimeError as error:  # an ERROR report raises in background mode
-        return None, str(error)
 
 
 def write_shot(writing, folder):

@@ -17,27 +17,8 @@ import ctypes.util
 import json
 import os
 import sys
-import traceback
 
-REPO = "user_default"
-MODULE = "bl_ext.{}.paint_relief".format(REPO)
-RESULTS = {}
-
-
-def step(function):
-    try:
-        RESULTS[function.__name__] = function()
-    except Exception:
-        RESULTS[function.__name__] = {"exception": traceback.format_exc()}
-    return function
-
-
-def run_op(op, **kwargs):
-    """Call an operator; return (sorted result or None, error text)."""
-    try:
-        return sorted(op(**kwargs)), ""
-    except RuntimeError as error:  # an ERROR report raises in background mode
-        return None, str(error)
+from steps import MODULE, REPO, RESULTS, run_op, step  # tests/shipped/steps.py, beside this script
 
 
 class _MallocInfo(ctypes.Structure):
