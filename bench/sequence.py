@@ -15,7 +15,7 @@ then prints a table of both side by side:
 - peak resident memory (ru_maxrss of the child, from os.wait4; for the
   frames alone the largest over them);
 - strokes per frame (report.json "strokes" alone; the sequence's per_frame
-  "alive", and its "born" and "died");
+  "alive", and its "born" and "died" after the first frame, which is painted as a still);
 - the mean PSNR (dB) of the painted frames against the source frames;
 - ALGORITHM §9's measures (core.motion.measures) of both sides with one
   motion: the clip's Vector pass when every frame carries one, else
@@ -479,8 +479,8 @@ def main() -> None:
             sides["sequence"] = {
                 "seconds_per_frame": wall / n, "clip_seconds": wall, "peak": max(ran["peaks"]),
                 "strokes": statistics.fmean(f["alive"] for f in report["per_frame"]),
-                "born": statistics.fmean(f["born"] for f in report["per_frame"]),
-                "died": statistics.fmean(f["died"] for f in report["per_frame"]),
+                "born": statistics.fmean(f["born"] for f in report["per_frame"][1:] or report["per_frame"]),
+                "died": statistics.fmean(f["died"] for f in report["per_frame"][1:] or report["per_frame"]),
                 "paintings": paintings, "heights": heights, "stats": stroke_stats(args.tools, folder, sources[at])}
         motion, steady = steadiness(frames, sources, {k: (m["paintings"], m["heights"]) for k, m in sides.items()})
         for side, m in sides.items():
