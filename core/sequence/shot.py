@@ -35,7 +35,7 @@ from ..files.lives import LIVES_FILE, append_frame
 from ..files.staging import output_folder
 from ..files.writing import write_json
 from ..measures.metrics import psnr
-from ..motion import comes_back, motion_pair, optical_flow, still_pixels, stillness, visible_in_both, warping_error
+from ..motion import comes_back, motion_boundary, motion_pair, optical_flow, still_pixels, stillness, warping_error
 from ..motion.optical_flow import SEQUENCE_MEGAPIXELS
 from ..params import Params, SequenceSettings, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
@@ -234,8 +234,8 @@ def frame_motion(image: np.ndarray, next_image: np.ndarray, vectors: Optional[np
     else:
         forward = optical_flow(image, next_image, SEQUENCE_MEGAPIXELS)
         backward = optical_flow(next_image, image, SEQUENCE_MEGAPIXELS)
-    return FrameMotion(forward, backward, visible_in_both(forward, backward), comes_back(forward, backward),
-                       comes_back(backward, forward))
+    kept = comes_back(forward, backward)
+    return FrameMotion(forward, backward, kept & ~motion_boundary(forward), kept, comes_back(backward, forward))
 
 
 def pair_measures(image: np.ndarray, next_image: np.ndarray, shown, next_shown, motion: FrameMotion) -> dict:
