@@ -170,20 +170,19 @@ class OutputFolder:
         self.committed = False
 
     @contextlib.contextmanager
-    def staged(self) -> Iterator[pathlib.Path]:
-        """Yield an empty staging folder; when the body succeeds, commit its files into the folder.
+    def staged(self, staging: Optional[pathlib.Path] = None) -> Iterator[pathlib.Path]:
+        """Yield a staging folder; when the body succeeds, commit its files into the folder.
 
+        The staging folder is a new empty one, or ``staging``: one that
+        ``new_staging`` made in this folder and another process (a worker of
+        a cluster sharing the storage) filled, which this commit takes over.
         On an exception (or a signal) the staging folder is removed and the
         folder keeps exactly the files it had. A file name whose target is a
         folder raises OutputError before anything is replaced. A file that
         could not be written in the staging folder (a full disk) is reported
         by its name and this folder, never by its hidden staging path.
         """
-        staging = self.folder / f"{STAGING_PREFIX}{os.getpid()}-{secrets.token_hex(4)}"
-        try:
-            staging.mkdir()
-        except OSError as exc:
-            raise OutputError(f"Cannot write to output folder {self.folder}: {_why(exc)}.") from exc
+        staging = pathlib.Path(staging) if staging is not None else new_staging(self.folder)
         try:
             yield staging
             names = sorted(p.name for p in staging.iterdir())
@@ -260,6 +259,17 @@ def _missing_parents(folder: pathlib.Path) -> List[pathlib.Path]:
             break
         p = p.parent
     return list(reversed(missing))
+
+
+def new_staging(folder: pathlib.Path) -> pathlib.Path:
+    """Make and return a new empty staging folder in the output folder ``folder`` (its name unique across
+    processes and machines); OutputError when it cannot be made."""
+    staging = pathlib.Path(folder) / f"{STAGING_PREFIX}{os.getpid()}-{secrets.token_hex(8)}"
+    try:
+        staging.mkdir()
+    except OSError as exc:
+        raise OutputError(f"Cannot write to output folder {folder}: {_why(exc)}.") from exc
+    return staging
 
 
 @contextlib.contextmanager

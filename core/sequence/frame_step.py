@@ -6,15 +6,16 @@ contact on a judging canvas, and runs the still painter's layers and detail
 pass against it where the carried painting leaves the canvas bare or wrong
 (``birth_places``): there strokes are born, streams keyed by (seed, frame,
 layer, visit), and the carried strokes anchored there start to fade out.
-The frame shown is every stroke laid in order at its fade contact; when
-none is fading, that is the judging canvas itself.
+The frame shown is every stroke laid in order at its fade contact
+(``shown_canvas``), a function of the frame's strokes alone, so it can be
+laid anywhere once the strokes' life has reached the frame.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import time
-from typing import Dict, NamedTuple, Tuple
+from typing import Dict, NamedTuple, Optional, Tuple
 
 import numpy as np
 from scipy import ndimage
@@ -22,7 +23,7 @@ from scipy import ndimage
 from ..analysis.run import analyze
 from ..methods.huang11 import paint, paint_details, paint_layers
 from ..motion.warp import bilinear, pixel_positions
-from ..params import Params
+from ..params import Params, scaled_sizes
 from ..progress import Stage
 from ..strokes.brush import BrushTip, brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
@@ -48,13 +49,13 @@ class FrameMotion(NamedTuple):
     visible: np.ndarray         # bool (H, W), frame t's pixels visible in both frames (``visible_in_both``)
     kept: np.ndarray            # bool (H, W), frame t's pixels that land in frame t+1 and come back by w_b
     seen_before: np.ndarray     # bool (H, W), frame t+1's pixels that land in frame t and come back by w_f
+    seconds: float = 0.0        # wall-clock seconds of finding it
 
 
 class PaintedFrame(NamedTuple):
     """A painted frame and what the next frame needs of it."""
 
-    living: LivingStrokes       # its strokes in laying order
-    canvas: Canvas              # the frame as shown (colour clipped to [0, 1])
+    living: LivingStrokes       # its strokes in laying order (``shown_canvas`` lays them)
     orientation: np.ndarray     # float32 (H, W) radians [0, pi), the frame's orientation field (Eq. 3)
     error: np.ndarray           # float32 (H, W) the settled canvas's distance from the reference
                                 #   (``colour_distance``) when its strokes there were laid, carried with the motion
@@ -66,26 +67,42 @@ class PaintedFrame(NamedTuple):
     seconds: Dict[str, float]   # wall-clock seconds of each stage of painting it
 
 
+class FrameAnalysis(NamedTuple):
+    """What a frame's strokes are painted from, which needs nothing of the frames before it."""
+
+    analysis: object            # ``core.analysis.run.Analysis`` of the frame
+    sources: dict               # {width px: ColourSources} of the frame's reference (``colour_sources``)
+    seconds: float = 0.0        # wall-clock seconds of making them
+
+
+def analyse_frame(image: np.ndarray, params: Params, cancel=None) -> FrameAnalysis:
+    """The analysis of (H, W, 3) sRGB [0, 1] ``image`` and its colour sources at every stroke width."""
+    clock = time.perf_counter()
+    analysis = analyze(image, params, cancel=cancel)
+    sources = colour_sources(analysis.reference, analysis.sizes, params)
+    return FrameAnalysis(analysis, sources, time.perf_counter() - clock)
+
+
 def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stage) -> PaintedFrame:
     """Frame 0: the still painting of (H, W, 3) sRGB [0, 1] ``image``, its strokes at full contact."""
     clock = time.perf_counter()
     painting = paint(image, params, stage.progress, stage.cancel, record_strokes=True)
     strokes = painting.statistics["seconds"]["strokes"]
     living = LivingStrokes.born(painting.stroke_list, 0, 0, fade_frames, fade_frames)
-    canvas = Canvas(painting.colour, painting.coverage, painting.height, painting.opacity)
-    return PaintedFrame(living, canvas, painting.orientation, colour_distance(painting.colour, painting.analysis.reference),
+    return PaintedFrame(living, painting.orientation, colour_distance(painting.colour, painting.analysis.reference),
                         np.zeros(image.shape[:2], bool), painting.opacity, len(living), len(living), 0,
                         {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes})
 
 
 def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
-               stage: Stage) -> PaintedFrame:
+               stage: Stage, analysed: Optional[FrameAnalysis] = None) -> PaintedFrame:
     """Frame ``index`` (>= 1) of (H, W, 3) sRGB [0, 1] ``image`` from the ``previous`` frame and the ``motion``
-    between them."""
+    between them; ``analysed``: the frame's ``analyse_frame`` when it was made elsewhere (made here when None)."""
     clock = Clock()
-    analysis = analyze(image, params, cancel=stage.cancel)
-    sources = colour_sources(analysis.reference, analysis.sizes, params)
-    clock.lap("analysis")
+    if analysed is None:
+        analysed = analyse_frame(image, params, stage.cancel)
+        clock.lap("analysis")
+    analysis, sources = analysed.analysis, analysed.sources
     shape = image.shape[:2]
     carried = carry(previous.living, motion.forward, motion.kept,
                     size_map(analysis.grids, analysis.grid_sizes, shape), analysis.sizes,
@@ -112,23 +129,19 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     clock.lap("birth")
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
-    np.clip(judging.colour, 0.0, 1.0, out=judging.colour)
-    shown = judging if frame.at_full_contact() else laid(frame, tips, params, shape)
-    clock.lap("laying")
-    return PaintedFrame(frame, shown, analysis.orientation, laid_error, eligible, judging.opacity,
+    return PaintedFrame(frame, analysis.orientation, laid_error, eligible, judging.opacity,
                         previous.next_ident + len(born), len(born), carried.occluded + carried.faded + gone,
                         clock.seconds)
 
 
 def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray, motion: FrameMotion) -> bool:
     """Whether ``next_frame`` would give ``previous`` again: the frames are equal and nothing moves, no stroke of
-    ``previous`` is fading, and its judging canvas was the frame shown (no stroke was born on top of it: its
-    opacity is the shown frame's). Then every stroke stays where and as it is, none dies and none is born, so a
-    still stretch of a shot is painted once."""
+    ``previous`` is fading, and no place of it was open to births (so its judging canvas was its strokes laid in
+    order). Then every stroke stays where and as it is, none dies and none is born, so a still stretch of a shot
+    is painted once."""
     living = previous.living
     return (np.array_equal(image, next_image) and not motion.forward.any() and not motion.backward.any()
-            and bool(np.all(living.level == living.fade_frames)) and not living.dying.any()
-            and np.array_equal(previous.opacity, previous.canvas.opacity) and not previous.fresh.any())
+            and living.at_full_contact() and not previous.fresh.any())
 
 
 def anchored_in(anchors: np.ndarray, places: np.ndarray) -> np.ndarray:
@@ -198,6 +211,11 @@ def frame_tips(params: Params, sizes) -> Dict[Tuple[int, int], BrushTip]:
                                                                     params.transparency).items()}
     tips[ROUND_BRUSH, min(sizes)] = brush_tip(load_brush("round"), min(sizes), params.transparency)
     return tips
+
+
+def shown_canvas(frame: PaintedFrame, params: Params, shape: tuple) -> Canvas:
+    """The (H, W) ``shape`` frame as shown: its strokes laid in order at their contact, colour clipped to [0, 1]."""
+    return laid(frame.living, frame_tips(params, scaled_sizes(params, *shape)), params, shape)
 
 
 def laid(frame: LivingStrokes, tips: Dict[Tuple[int, int], BrushTip], params: Params, shape: tuple) -> Canvas:

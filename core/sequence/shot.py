@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import shutil
 import time
 from pathlib import Path
 from typing import Dict, List, Optional
@@ -28,38 +29,20 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..errors import Cancelled, OutputError, ParameterError
-from ..files import reading
-from ..files.export import file_digests, map_attributes, map_tasks, run_all, write_normal_map
-from ..files.frames import Frames, carry_vector_passes, read_vector_pass
+from ..files.frames import Frames, carry_vector_passes
 from ..files.lives import LIVES_FILE, append_frame
 from ..files.staging import output_folder
 from ..files.writing import write_json
-from ..measures.metrics import psnr
-from ..motion import comes_back, motion_boundary, motion_pair, optical_flow, still_pixels, stillness, warping_error
-from ..motion.optical_flow import SEQUENCE_MEGAPIXELS
-from ..params import Params, SequenceSettings, scaled_sizes
+from ..params import Params, SequenceSettings
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
-from .frame_step import FrameMotion, PaintedFrame, first_frame, frame_tips, laid, next_frame, unchanged
+from .frame_step import FrameAnalysis, FrameMotion, PaintedFrame, analyse_frame, unchanged
 from .state import STATE_FILE, load_state, save_state
+from .tasks import WrittenFrame, frame_motion, frame_names, life, read_frame, shown_frame, written_frame
 
 REPORT_FILE = "report.json"
 VECTOR_PASS_MOTION = "vector pass"
 OPTICAL_FLOW_MOTION = "optical flow"
-
-
-def frame_names(number: int, normal_map: bool) -> List[str]:
-    """The files of frame ``number``: painting_0016.png, color_0016.exr, height, opacity, orientation (and
-    normal_0016.exr), as Blender numbers an image sequence (at least 4 digits)."""
-    suffix = frame_suffix(number)
-    names = [f"painting{suffix}.png", f"color{suffix}.exr", f"height{suffix}.exr", f"opacity{suffix}.exr",
-             f"orientation{suffix}.exr"]
-    return names + ([f"normal{suffix}.exr"] if normal_map else [])
-
-
-def frame_suffix(number: int) -> str:
-    """"_0016" for frame 16: the frame number zero-padded to 4 digits (more when it needs them)."""
-    return f"_{number:04d}"
 
 
 def fingerprint(params: Params, settings: SequenceSettings, motion: str) -> str:
@@ -146,69 +129,58 @@ class Run:
                 "frames": [], "per_frame": [], "lives": {"file": LIVES_FILE, "bytes": 0}, "complete": False}
 
     def paint_from(self, start: int, report: dict, folder, progress: ProgressFn, cancel: CancelFn) -> None:
-        """Paint frames ``start`` .. the last, committing each, ``report`` kept up to date."""
+        """Paint frames ``start`` .. the last in this process, committing each, ``report`` kept up to date: the
+        pieces of ``tasks`` one after another."""
         paths, numbers = self.frames.paths, self.frames.numbers
-        count = len(paths)
-        previous = image = vectors = None
+        count, vector_pass = len(paths), self.motion == VECTOR_PASS_MOTION
+        painted = before = before_shown = None
         if start > 0:
-            saved = load_state(folder.folder / STATE_FILE)
-            image = reading.read_image(paths[start - 1], self.params.max_megapixels, self.params.canvas_colour)
-            vectors = read_vector_pass(paths[start - 1]) if self.motion == VECTOR_PASS_MOTION else None
-            shape = image.shape[:2]
-            tips = frame_tips(self.params, scaled_sizes(self.params, *shape))
-            previous = saved.frame._replace(canvas=laid(saved.frame.living, tips, self.params, shape))
+            painted = self.resumed_frame(folder.folder)
+            before = read_frame(paths[start - 1], self.params, vector_pass)
+            before_shown = shown_frame(painted, self.params, before.image.shape[:2])
         for index in range(start, count):
             stage = Stage(frame_progress(progress, numbers[index], index, count), cancel, index / count,
                           (index + 1) / count)
-            seconds: Dict[str, float] = {}
-            clock = time.perf_counter()
-            next_image = reading.read_image(paths[index], self.params.max_megapixels, self.params.canvas_colour)
-            next_vectors = read_vector_pass(paths[index]) if self.motion == VECTOR_PASS_MOTION else None
-            seconds["reading"] = time.perf_counter() - clock
+            frame = read_frame(paths[index], self.params, vector_pass)
             stage.report(0.0, "motion" if index else "painting")
-            if index == 0:
-                painted = first_frame(next_image, self.params, self.settings.fade_frames, stage)
-                measures = {}
-            else:
-                clock = time.perf_counter()
-                motion = frame_motion(image, next_image, vectors, next_vectors)
-                seconds["motion"] = time.perf_counter() - clock
-                if unchanged(previous, image, next_image, motion):
-                    painted = previous._replace(born=0, died=0, seconds={})
-                else:
-                    painted = next_frame(previous, index, next_image, motion, self.params, stage)
-                clock = time.perf_counter()
-                measures = pair_measures(image, next_image, previous.canvas, painted.canvas, motion)
-                seconds["measures"] = time.perf_counter() - clock
-            seconds.update(painted.seconds)
-            self.commit(folder, index, painted, next_image, measures, seconds, report)
-            previous, image, vectors = painted, next_image, next_vectors
+            motion = frame_motion(before, frame) if index else None
+            analysed = None
+            if index and not unchanged(painted, before.image, frame.image, motion):
+                analysed = analyse_frame(frame.image, self.params, stage.cancel)
+            painted = life(painted, index, before, frame, motion, self.params, self.settings.fade_frames, stage,
+                           analysed)
+            shown = shown_frame(painted, self.params, frame.image.shape[:2])
+            written = written_frame(folder.folder, numbers[index], painted, shown, frame, before_shown, before,
+                                    motion, self.params, self.settings.normal_map)
+            self.commit(folder, index, painted, written, frame_seconds(analysed, motion), report)
+            before, before_shown = frame, shown
 
-    def commit(self, folder, index: int, painted: PaintedFrame, image: np.ndarray, measures: dict,
-               seconds: Dict[str, float], report: dict) -> None:
-        """Append frame ``index``'s strokes to the lives file and commit its maps, the report and the state."""
+    def resumed_frame(self, folder: Path) -> PaintedFrame:
+        """The strokes of the last frame committed in ``folder`` (its state file), to go on from."""
+        return load_state(folder / STATE_FILE).frame
+
+    def commit(self, folder, index: int, painted: PaintedFrame, written: WrittenFrame, seconds: Dict[str, float],
+               report: dict) -> None:
+        """Commit frame ``index``: append its strokes to the lives file, then its maps (written into a staging
+        folder), the state and the report all together. ``seconds``: the frame's analysis and motion."""
         clock = time.perf_counter()
         number, path = self.frames.numbers[index], self.frames.paths[index]
         strokes = painted.living.strokes
-        lives_bytes = append_frame(folder.folder / LIVES_FILE, number, painted.living.ident, strokes.control,
-                                   strokes.control_count, report["lives"]["bytes"])
-        canvas = painted.canvas
-        attributes = dict(map_attributes(self.params), **{"paint_relief:frame": str(number)})
+        try:
+            lives_bytes = append_frame(folder.folder / LIVES_FILE, number, painted.living.ident, strokes.control,
+                                       strokes.control_count, report["lives"]["bytes"])
+        except BaseException:
+            shutil.rmtree(written.staging, ignore_errors=True)
+            raise
         entry = {"frame": number, "input": path.name, "input_sha256": input_digest(path),
                  "alive": len(painted.living), "born": painted.born, "died": painted.died,
-                 "dying": int(np.count_nonzero(painted.living.dying)), "psnr": round(psnr(canvas.colour, image), 4),
-                 "height_range": [float(np.min(canvas.height)), float(np.max(canvas.height))], **measures}
-        with folder.staged() as staging:
-            names = frame_names(number, self.settings.normal_map)
-            run_all(map_tasks(staging, frame_suffix(number), canvas.colour, canvas.height, canvas.opacity,
-                              painted.orientation, attributes))
-            files = file_digests(staging, names[:5])
-            if self.settings.normal_map:
-                write_normal_map(staging / names[5], canvas.height, attributes, files[names[2]]["sha256"])
+                 "dying": int(np.count_nonzero(painted.living.dying)), **written.entry}
+        with folder.staged(written.staging) as staging:
             save_state(staging / STATE_FILE, painted, index, lives_bytes)
-            seconds["writing"] = time.perf_counter() - clock
+            seconds = dict(seconds, **painted.seconds, **written.seconds)
+            seconds["writing"] += time.perf_counter() - clock
             entry["seconds"] = {name: round(value, 4) for name, value in seconds.items()}
-            entry["files"] = files
+            entry["files"] = written.files
             report["per_frame"].append(entry)
             report["frames"].append(number)
             report["lives"]["bytes"] = lives_bytes
@@ -216,40 +188,17 @@ class Run:
             write_json(staging / REPORT_FILE, report)
 
 
+def frame_seconds(analysed: Optional[FrameAnalysis], motion: Optional[FrameMotion]) -> Dict[str, float]:
+    """{stage: seconds} of a frame's analysis and motion, when they were made."""
+    seconds = {} if motion is None else {"motion": motion.seconds}
+    return seconds if analysed is None else dict(seconds, analysis=analysed.seconds)
+
+
 def frame_progress(progress: ProgressFn, number: int, index: int, count: int) -> ProgressFn:
     """A progress callback that names the frame: "Frame 16 (3/12): <message>"."""
     if progress is None:
         return None
     return lambda fraction, message: progress(fraction, f"Frame {number} ({index + 1}/{count}): {message}")
-
-
-def frame_motion(image: np.ndarray, next_image: np.ndarray, vectors: Optional[np.ndarray],
-                 next_vectors: Optional[np.ndarray]) -> FrameMotion:
-    """The motion between two frames: from their Vector passes (``vectors``, ``next_vectors``) when they have them,
-    else optical flow both ways (none between equal frames); with which pixels of each are visible in both."""
-    if vectors is not None:
-        forward, backward = motion_pair(vectors, next_vectors)
-    elif np.array_equal(image, next_image):
-        forward = backward = np.zeros(image.shape[:2] + (2,), np.float32)
-    else:
-        forward = optical_flow(image, next_image, SEQUENCE_MEGAPIXELS)
-        backward = optical_flow(next_image, image, SEQUENCE_MEGAPIXELS)
-    kept = comes_back(forward, backward)
-    return FrameMotion(forward, backward, kept & ~motion_boundary(forward), kept, comes_back(backward, forward))
-
-
-def pair_measures(image: np.ndarray, next_image: np.ndarray, shown, next_shown, motion: FrameMotion) -> dict:
-    """The steadiness of a pair of frames (ALGORITHM §9, "Measures"), with the painter's own motion: the warping
-    error of the footage, of the painting's colour and of its raw height (normalised over the sequence by
-    ``sequence_figures``), and the mean change where the footage stands still, of the footage and the painting."""
-    still = still_pixels(motion.forward, motion.backward) & motion.visible
-    return {"warping_error": {
-        "footage": warping_error(image, next_image, motion.forward, motion.visible),
-        "painting": warping_error(shown.colour, next_shown.colour, motion.forward, motion.visible),
-        "height_raw": warping_error(shown.height, next_shown.height, motion.forward, motion.visible)},
-        "still_pixels": int(np.count_nonzero(still)),
-        "stillness": {"footage": stillness(image, next_image, still),
-                      "painting": stillness(shown.colour, next_shown.colour, still)}}
 
 
 def sequence_figures(per_frame: List[dict], frame_count: int) -> dict:

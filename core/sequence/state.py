@@ -31,7 +31,7 @@ _LIFE_FIELDS = ["ident", "birth", "level", "dying", "offsets", "birth_length"]
 class SavedState(NamedTuple):
     """A sequence's state after its frame ``index`` (0-based)."""
 
-    frame: PaintedFrame         # without canvas and orientation (None): lay ``frame.living`` to see the frame
+    frame: PaintedFrame         # without orientation (None): ``frame_step.shown_canvas`` lays the frame
     index: int
     lives_bytes: int
 
@@ -61,5 +61,5 @@ def load_state(path: Path) -> SavedState:
     except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
         raise InputError(f"The sequence state {path} cannot be read ({exc}); paint the sequence into a new "
                          f"folder.") from exc
-    return SavedState(PaintedFrame(living, None, None, arrays["error"], arrays["fresh"], arrays["opacity"], next_ident, born, died, {}),
+    return SavedState(PaintedFrame(living, None, arrays["error"], arrays["fresh"], arrays["opacity"], next_ident, born, died, {}),
                       index, lives_bytes)
