@@ -237,7 +237,29 @@ def _add_sequence_parser(sub) -> None:
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_run_options(p)
+    _add_farm_options(p)
     p.set_defaults(run=run_sequence)
+
+
+def _add_farm_options(p) -> None:
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--workers", type=_int, metavar="N",
+                       help="paint on a local Dask cluster of N worker processes, one thread each (needs Dask: "
+                            "pip install 'paint-relief[farm]')")
+    group.add_argument("--scheduler", metavar="ADDRESS",
+                       help="paint on the Dask cluster whose scheduler is at ADDRESS (tcp://host:8786); its workers "
+                            "must see the input and output folders at the same paths")
+
+
+def farm_from_args(args: argparse.Namespace):
+    """The ``core.farm.cluster.Farm`` that --workers or --scheduler name, or None to paint in this process."""
+    if args.workers is None and args.scheduler is None:
+        return None
+    from .farm.cluster import Farm
+
+    farm = Farm(args.workers, args.scheduler)
+    farm.validate()
+    return farm
 
 
 def run_sequence(args: argparse.Namespace, progress) -> None:
@@ -248,7 +270,7 @@ def run_sequence(args: argparse.Namespace, progress) -> None:
     settings = SequenceSettings(args.fade_frames, args.normal_map).validate()
     with reused_heap():
         paint_sequence_files(args.input, args.output, params_from_args(args), settings, args.frames, progress=progress,
-                             max_memory=max_memory(args))
+                             max_memory=max_memory(args), farm=farm_from_args(args))
 
 
 def _notice(console, text: str) -> None:

@@ -28,6 +28,7 @@ CORE_LAYERS = [
     ("measures", {"core.measures"}),
     ("methods", {"core.methods"}),
     ("sequence", {"core.sequence"}),
+    ("farm", {"core.farm"}),
     ("figures", {"core.figures"}),
     ("api", {"core.api"}),
     ("evaluation", {"core.evaluation"}),

@@ -45,7 +45,7 @@ from . import folderlock, signals
 STAGING_PREFIX = ".staging-"
 JOURNAL_NAME = ".paint-relief-commit.json"
 _JOURNAL_TEMP_PREFIX = JOURNAL_NAME + ".tmp-"
-_PROBE_PREFIX = ".paint-relief-probe-"
+PROBE_PREFIX = ".paint-relief-probe-"
 
 
 def _why(exc: OSError) -> str:
@@ -132,7 +132,7 @@ def recover(folder: pathlib.Path) -> None:
         for entry in entries:
             if entry.name.startswith(STAGING_PREFIX) and entry.is_dir(follow_symlinks=False):
                 shutil.rmtree(entry.path, ignore_errors=True)
-            elif entry.name.startswith((_JOURNAL_TEMP_PREFIX, _PROBE_PREFIX)):
+            elif entry.name.startswith((_JOURNAL_TEMP_PREFIX, PROBE_PREFIX)):
                 with contextlib.suppress(OSError):
                     os.unlink(entry.path)
 

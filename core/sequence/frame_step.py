@@ -49,6 +49,7 @@ class FrameMotion(NamedTuple):
     visible: np.ndarray         # bool (H, W), frame t's pixels visible in both frames (``visible_in_both``)
     kept: np.ndarray            # bool (H, W), frame t's pixels that land in frame t+1 and come back by w_b
     seen_before: np.ndarray     # bool (H, W), frame t+1's pixels that land in frame t and come back by w_f
+    same_picture: bool = False  # frames t and t+1 are the same picture, pixel for pixel
     seconds: float = 0.0        # wall-clock seconds of finding it
 
 
@@ -134,14 +135,13 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
                         clock.seconds)
 
 
-def unchanged(previous: PaintedFrame, image: np.ndarray, next_image: np.ndarray, motion: FrameMotion) -> bool:
-    """Whether ``next_frame`` would give ``previous`` again: the frames are equal and nothing moves, no stroke of
-    ``previous`` is fading, and no place of it was open to births (so its judging canvas was its strokes laid in
-    order). Then every stroke stays where and as it is, none dies and none is born, so a still stretch of a shot
-    is painted once."""
-    living = previous.living
-    return (np.array_equal(image, next_image) and not motion.forward.any() and not motion.backward.any()
-            and living.at_full_contact() and not previous.fresh.any())
+def unchanged(previous: PaintedFrame, motion: FrameMotion) -> bool:
+    """Whether ``next_frame`` would give ``previous`` again: the frames are the same picture and nothing moves, no
+    stroke of ``previous`` is fading, and no place of it was open to births (so its judging canvas was its strokes
+    laid in order). Then every stroke stays where and as it is, none dies and none is born, so a still stretch of a
+    shot is painted once."""
+    return (motion.same_picture and not motion.forward.any() and not motion.backward.any()
+            and previous.living.at_full_contact() and not previous.fresh.any())
 
 
 def anchored_in(anchors: np.ndarray, places: np.ndarray) -> np.ndarray:

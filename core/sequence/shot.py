@@ -36,7 +36,7 @@ from ..files.writing import write_json
 from ..params import Params, SequenceSettings
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
-from .frame_step import FrameAnalysis, FrameMotion, PaintedFrame, analyse_frame, unchanged
+from .frame_step import PaintedFrame, analyse_frame, unchanged
 from .state import STATE_FILE, load_state, save_state
 from .tasks import WrittenFrame, frame_motion, frame_names, life, read_frame, shown_frame, written_frame
 
@@ -58,14 +58,16 @@ def input_digest(path: Path) -> str:
 
 
 def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optional[SequenceSettings] = None,
-                   progress: ProgressFn = None, cancel: CancelFn = None) -> dict:
+                   progress: ProgressFn = None, cancel: CancelFn = None, frames_painter=None) -> dict:
     """Paint ``frames`` into ``output_dir`` (module docstring) with ``settings`` (default ``SequenceSettings()``);
     return the sequence's report.
 
     Refusals (one sentence, the folder untouched): parameters out of range or a layout other than the paper's;
     frames of which only some carry a Vector pass; a folder holding another sequence's frames or a still
     painting. progress(fraction, message) reports the frame and the work within it; cancel() stops between
-    stages (complete frames stay).
+    stages (complete frames stay). frames_painter(run, start, report, folder, progress, cancel) paints and commits
+    the frames from ``start`` on elsewhere (``core.farm.sequence.ClusterFrames``); by default this process paints
+    them (``Run.paint_from``), with the same bytes.
     """
     settings = settings or SequenceSettings()
     params.validate()
@@ -82,7 +84,10 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
         done = len(report["per_frame"])
         if done < len(frames.paths):
             try:
-                run.paint_from(done, report, folder, progress, cancel)
+                if frames_painter is None:
+                    run.paint_from(done, report, folder, progress, cancel)
+                else:
+                    frames_painter(run, done, report, folder, progress, cancel)
             except Cancelled:
                 raise Cancelled(f"The run was cancelled; the frames in {output_dir} are complete, and painting the "
                                 f"sequence again goes on after the last of them.") from None
@@ -145,24 +150,22 @@ class Run:
             stage.report(0.0, "motion" if index else "painting")
             motion = frame_motion(before, frame) if index else None
             analysed = None
-            if index and not unchanged(painted, before.image, frame.image, motion):
+            if index and not unchanged(painted, motion):
                 analysed = analyse_frame(frame.image, self.params, stage.cancel)
-            painted = life(painted, index, before, frame, motion, self.params, self.settings.fade_frames, stage,
-                           analysed)
+            painted = life(painted, index, frame, motion, self.params, self.settings.fade_frames, stage, analysed)
             shown = shown_frame(painted, self.params, frame.image.shape[:2])
             written = written_frame(folder.folder, numbers[index], painted, shown, frame, before_shown, before,
                                     motion, self.params, self.settings.normal_map)
-            self.commit(folder, index, painted, written, frame_seconds(analysed, motion), report)
+            self.commit(folder, index, painted, written, report)
             before, before_shown = frame, shown
 
     def resumed_frame(self, folder: Path) -> PaintedFrame:
         """The strokes of the last frame committed in ``folder`` (its state file), to go on from."""
         return load_state(folder / STATE_FILE).frame
 
-    def commit(self, folder, index: int, painted: PaintedFrame, written: WrittenFrame, seconds: Dict[str, float],
-               report: dict) -> None:
+    def commit(self, folder, index: int, painted: PaintedFrame, written: WrittenFrame, report: dict) -> None:
         """Commit frame ``index``: append its strokes to the lives file, then its maps (written into a staging
-        folder), the state and the report all together. ``seconds``: the frame's analysis and motion."""
+        folder), the state and the report all together."""
         clock = time.perf_counter()
         number, path = self.frames.numbers[index], self.frames.paths[index]
         strokes = painted.living.strokes
@@ -177,7 +180,7 @@ class Run:
                  "dying": int(np.count_nonzero(painted.living.dying)), **written.entry}
         with folder.staged(written.staging) as staging:
             save_state(staging / STATE_FILE, painted, index, lives_bytes)
-            seconds = dict(seconds, **painted.seconds, **written.seconds)
+            seconds = dict(painted.seconds, **written.seconds)
             seconds["writing"] += time.perf_counter() - clock
             entry["seconds"] = {name: round(value, 4) for name, value in seconds.items()}
             entry["files"] = written.files
@@ -186,12 +189,6 @@ class Run:
             report["lives"]["bytes"] = lives_bytes
             report.update(sequence_figures(report["per_frame"], len(self.frames.paths)))
             write_json(staging / REPORT_FILE, report)
-
-
-def frame_seconds(analysed: Optional[FrameAnalysis], motion: Optional[FrameMotion]) -> Dict[str, float]:
-    """{stage: seconds} of a frame's analysis and motion, when they were made."""
-    seconds = {} if motion is None else {"motion": motion.seconds}
-    return seconds if analysed is None else dict(seconds, analysis=analysed.seconds)
 
 
 def frame_progress(progress: ProgressFn, number: int, index: int, count: int) -> ProgressFn:

@@ -95,29 +95,31 @@ def frame_motion(before: FrameInput, after: FrameInput) -> FrameMotion:
     """The motion between two frames: from their Vector passes when they have them, else optical flow both ways
     (none between equal frames); with which pixels of each are visible in both."""
     clock = time.perf_counter()
+    same_picture = np.array_equal(before.image, after.image)
     if before.vectors is not None:
         forward, backward = motion_pair(before.vectors, after.vectors)
-    elif np.array_equal(before.image, after.image):
+    elif same_picture:
         forward = backward = np.zeros(before.image.shape[:2] + (2,), np.float32)
     else:
         forward = optical_flow(before.image, after.image, SEQUENCE_MEGAPIXELS)
         backward = optical_flow(after.image, before.image, SEQUENCE_MEGAPIXELS)
     kept = comes_back(forward, backward)
     return FrameMotion(forward, backward, kept & ~motion_boundary(forward), kept, comes_back(backward, forward),
-                       time.perf_counter() - clock)
+                       same_picture, time.perf_counter() - clock)
 
 
-def life(previous: Optional[PaintedFrame], index: int, before: Optional[FrameInput], frame: FrameInput,
-         motion: Optional[FrameMotion], params: Params, fade_frames: int, stage: Stage,
-         analysed: Optional[FrameAnalysis] = None) -> PaintedFrame:
-    """Frame ``index``'s strokes: frame 0 painted as a still (``previous``, ``before`` and ``motion`` None), a
-    still stretch's frame as the frame before, any other frame by ``next_frame`` (with ``analysed``, the frame's
-    analysis when made elsewhere)."""
+def life(previous: Optional[PaintedFrame], index: int, frame: FrameInput, motion: Optional[FrameMotion],
+         params: Params, fade_frames: int, stage: Stage, analysed: Optional[FrameAnalysis] = None) -> PaintedFrame:
+    """Frame ``index``'s strokes: frame 0 painted as a still (``previous`` and ``motion`` None), a still stretch's
+    frame as the frame before, any other frame by ``next_frame`` (with ``analysed``, the frame's analysis when made
+    elsewhere)."""
     if previous is None:
         return first_frame(frame.image, params, fade_frames, stage)
-    if unchanged(previous, before.image, frame.image, motion):
+    if unchanged(previous, motion):
         return previous._replace(born=0, died=0, seconds={})
-    return next_frame(previous, index, frame.image, motion, params, stage, analysed)
+    painted = next_frame(previous, index, frame.image, motion, params, stage, analysed)
+    return painted if analysed is None else painted._replace(seconds={"analysis": analysed.seconds,
+                                                                      **painted.seconds})
 
 
 class ShownFrame(NamedTuple):
@@ -140,7 +142,7 @@ def written_frame(folder: Path, number: int, painted: PaintedFrame, shown: Shown
     """Frame ``number``'s maps written into a new staging folder of the output ``folder``, with its report entry:
     PSNR against the frame, the height's range and (after the first frame) the pair's measures against the frame
     before (``before_shown``, ``before``, ``motion``). A failure removes the staging folder."""
-    seconds = {"reading": frame.seconds, "laying": shown.seconds}
+    seconds = {"reading": frame.seconds, "laying": shown.seconds, **({"motion": motion.seconds} if motion else {})}
     clock = time.perf_counter()
     if before is not None:
         measures = pair_measures(before.image, frame.image, before_shown.canvas, shown.canvas, motion)

@@ -1,0 +1,153 @@
+"""Where farm work runs: a local Dask cluster of worker processes, or an existing cluster reached by its scheduler.
+
+Dask distributed is imported only here and only when a farm is asked for
+(``--workers`` or ``--scheduler``), so the painter runs without it. Every
+worker paints one task at a time on one thread per worker thread: the
+worker's threads, not the painter's own thread pool, spread the work
+(``plugin.PainterWorker``), and the bytes painted do not depend on either.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import secrets
+import socket
+import warnings
+from pathlib import Path
+from typing import Iterator, List, NamedTuple, Optional
+
+from ..errors import OutputError, PaintReliefError, ParameterError
+from ..files.staging import PROBE_PREFIX
+
+CONNECT_SECONDS = 10
+"""Seconds to reach a scheduler, and to wait for its first worker, before giving up."""
+
+
+class FarmError(PaintReliefError):
+    """The cluster could not be reached or was lost: one sentence naming the scheduler's address."""
+
+
+class Farm(NamedTuple):
+    """Where to paint: ``workers`` local worker processes, or the cluster whose scheduler is at ``scheduler``."""
+
+    workers: Optional[int] = None
+    scheduler: Optional[str] = None
+
+    def validate(self) -> None:
+        """ParameterError (one sentence) for no place, both places, or fewer than one worker."""
+        if (self.workers is None) == (self.scheduler is None):
+            raise ParameterError("Give either a number of local workers or a scheduler's address, not both.")
+        if self.workers is not None and self.workers < 1:
+            raise ParameterError(f"The number of workers must be at least 1, not {self.workers}.")
+
+
+def import_distributed():
+    """The ``distributed`` module; ParameterError saying how to install it when it is missing."""
+    try:
+        import distributed
+    except ImportError as exc:
+        raise ParameterError("Painting on a Dask cluster needs Dask distributed, which is not installed here: "
+                             "pip install 'paint-relief[farm]' (or dask[distributed]).") from exc
+    return distributed
+
+
+@contextlib.contextmanager
+def connected(farm: Farm) -> Iterator[object]:
+    """A ``distributed.Client`` of ``farm`` for the body, closed after it (a local cluster is shut down).
+
+    FarmError (one sentence naming the address) when the scheduler cannot be reached or has no worker within
+    CONNECT_SECONDS. Dask's own log lines below warnings are silenced: progress is the caller's to show.
+    """
+    farm.validate()
+    distributed = import_distributed()
+    for name in ("distributed", "tornado"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    with contextlib.ExitStack() as stack:
+        if farm.scheduler is None:
+            cluster = stack.enter_context(distributed.LocalCluster(
+                n_workers=farm.workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                silence_logs=logging.ERROR))
+            client = stack.enter_context(distributed.Client(cluster, set_as_default=False))
+        else:
+            client = stack.enter_context(reach(distributed, farm.scheduler))
+        from .plugin import PainterWorker
+
+        client.register_plugin(PainterWorker(), name="paint-relief-painter")
+        yield client
+
+
+@contextlib.contextmanager
+def reach(distributed, address: str) -> Iterator[object]:
+    """A client of the scheduler at ``address`` that has at least one worker; FarmError naming it otherwise."""
+    try:
+        client = distributed.Client(address, timeout=f"{CONNECT_SECONDS}s", set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise FarmError(f"Cannot reach the Dask scheduler at {address} ({plain(exc)}); check the address and that "
+                        f"`dask scheduler` runs there.") from None
+    with client:
+        try:
+            client.wait_for_workers(1, timeout=CONNECT_SECONDS)
+        except (OSError, TimeoutError) as exc:
+            raise FarmError(f"The Dask scheduler at {address} has no worker ({plain(exc)}); start `dask worker "
+                            f"{address}` on the machines that paint.") from None
+        yield client
+
+
+def plain(exc: BaseException) -> str:
+    """An exception's message on one line, without a full stop."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text.rstrip(".")
+
+
+def describe(client) -> str:
+    """"2 workers, dashboard http://..." : the cluster's size and its dashboard's address when it serves one."""
+    info = client.scheduler_info()
+    count = len(info.get("workers", {}))
+    noun = "worker" if count == 1 else "workers"
+    dashboard = f", dashboard {client.dashboard_link}" if "dashboard" in info.get("services", {}) else ""
+    return f"{count} {noun}{dashboard}"
+
+
+def address(client) -> str:
+    """The scheduler's address."""
+    return client.scheduler.address
+
+
+def check_paths(client, readable: List[Path], writable: List[Path]) -> None:
+    """OutputError (one sentence naming the worker and the path) when a worker of ``client``'s cluster cannot read
+    one of ``readable`` files or write into one of ``writable`` folders (a probe file made and removed there)."""
+    problems = client.run(path_problem, [str(p) for p in readable], [str(p) for p in writable])
+    for worker, problem in sorted(problems.items()):
+        if problem:
+            raise OutputError(f"The Dask worker {worker} ({problem}); every worker must see the input and the "
+                              f"output folders at the same paths.")
+
+
+def path_problem(readable: List[str], writable: List[str]) -> Optional[str]:
+    """Run on a worker: what it cannot do of reading ``readable`` and writing into ``writable``, or None."""
+    host = socket.gethostname()
+    for path in readable:
+        try:
+            with open(path, "rb") as stream:
+                stream.read(1)
+        except OSError as exc:
+            return f"on {host} cannot read {path}: {exc.strerror or plain(exc)}"
+    for folder in writable:
+        probe = Path(folder) / f"{PROBE_PREFIX}{os.getpid()}-{secrets.token_hex(8)}"
+        try:
+            probe.write_bytes(b"")
+            probe.unlink()
+        except OSError as exc:
+            return f"on {host} cannot write into {folder}: {exc.strerror or plain(exc)}"
+    return None
+
+
+@contextlib.contextmanager
+def large_arguments() -> Iterator[None]:
+    """A context in which Dask does not warn of a task's large arguments: a frame's strokes travel with the task
+    that continues them, so a lost worker never forces the life to be painted again from the first frame."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Sending large graph")
+        yield

@@ -1,0 +1,63 @@
+"""A sequence frame's pieces as Dask tasks run them: each reads the frame files it needs from their paths.
+
+Reading a frame takes a few milliseconds to tens of milliseconds, far less
+than sending its picture from the worker that read it, so the pieces that
+need a picture read it themselves (``core.sequence.tasks.read_frame``) and
+only what is made (an analysis, a motion, the strokes, the frame shown)
+travels between workers.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import NamedTuple, Optional
+
+from ..params import Params
+from ..progress import Stage
+from ..sequence.frame_step import FrameAnalysis, FrameMotion, PaintedFrame
+from ..sequence.tasks import (
+    FrameInput,
+    ShownFrame,
+    WrittenFrame,
+    analysed_frame,
+    frame_motion,
+    life,
+    read_frame,
+    written_frame,
+)
+
+WORKER_STAGE = Stage(None, None)
+
+
+class Prepared(NamedTuple):
+    """A frame read, and its analysis (None for the first frame, which the still painter analyses itself)."""
+
+    frame: FrameInput
+    analysed: Optional[FrameAnalysis]
+
+
+def prepared(path: Path, params: Params, vector_pass: bool, analyse: bool) -> Prepared:
+    """Frame file ``path`` read (with its Vector pass when ``vector_pass``) and, when ``analyse``, analysed."""
+    frame = read_frame(path, params, vector_pass)
+    return Prepared(frame, analysed_frame(frame, params) if analyse else None)
+
+
+def motion_between(before: Path, after: Path, params: Params, vector_pass: bool) -> FrameMotion:
+    """The motion from frame file ``before`` to frame file ``after`` (``tasks.frame_motion``)."""
+    return frame_motion(read_frame(before, params, vector_pass), read_frame(after, params, vector_pass))
+
+
+def lived(previous: Optional[PaintedFrame], index: int, frame: Prepared, motion: Optional[FrameMotion],
+          params: Params, fade_frames: int) -> PaintedFrame:
+    """Frame ``index``'s strokes from the frame before's (``tasks.life``)."""
+    return life(previous, index, frame.frame, motion, params, fade_frames, WORKER_STAGE, frame.analysed)
+
+
+def written(folder: Path, number: int, painted: PaintedFrame, shown: ShownFrame, path: Path,
+            before_shown: Optional[ShownFrame], before: Optional[Path], motion: Optional[FrameMotion],
+            params: Params, normal_map: bool) -> WrittenFrame:
+    """Frame ``number``'s maps and measures (``tasks.written_frame``), its frame files read from their paths."""
+    frame = read_frame(path, params, False)
+    before_frame = read_frame(before, params, False) if before is not None else None
+    return written_frame(folder, number, painted, shown, frame, before_shown, before_frame, motion, params,
+                         normal_map)
