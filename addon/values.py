@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Pure helpers of the add-on: settings text to values, physical sizes, grids, directions.
 
-Nothing here imports ``bpy`` (NumPy only, imported where needed), so these
-functions are tested without Blender. Lengths are metres unless a name says
+Nothing here imports ``bpy`` (NumPy, and the painter's folder naming rule in
+``core.files.folders``, imported where needed), so these functions are tested
+without Blender. Lengths are metres unless a name says
 otherwise; angles are radians.
 """
 
@@ -198,34 +199,19 @@ def sequence_map_name(map_name, number):
 # --- where paintings go --------------------------------------------------------
 
 def folder_stem(image_path):
-    """A folder-name-safe stem of an image file name: ``"My photo (1).JPG"`` -> ``"My_photo_1"``.
+    """A folder-name-safe stem of an image file name: ``"My photo (1).JPG"`` -> ``"My_photo_1"``
+    (core.files.folders.folder_stem, the painter's one naming rule)."""
+    from ..core.files import folders
 
-    Letters, digits, '-' and '_' are kept, runs of anything else become one
-    '_'; an empty result becomes ``"painting"``.
-    """
-    import os
-    import re
-
-    stem = os.path.splitext(os.path.basename(str(image_path).rstrip("/\\")))[0]
-    stem = re.sub(r"[^0-9A-Za-z_-]+", "_", stem).strip("_")
-    return stem or "painting"
+    return folders.folder_stem(image_path)
 
 
 def next_painting_folder(parent, image_path, digits=3):
-    """The first ``parent/<stem>_<counter>`` (counter from 1, ``digits`` wide) that does not exist yet.
+    """The first ``parent/<stem>_<counter>`` (counter from 1, ``digits`` wide) that does not exist yet
+    (core.files.folders.next_painting_folder, as ``python -m core`` names its folders). Nothing is created."""
+    from ..core.files import folders
 
-    Each painting gets a folder of its own, so a new painting never
-    overwrites an earlier one. Nothing is created here.
-    """
-    import os
-
-    stem = folder_stem(image_path)
-    counter = 1
-    while True:
-        folder = os.path.join(parent, "{}_{:0{}d}".format(stem, counter, digits))
-        if not os.path.exists(folder):
-            return folder
-        counter += 1
+    return folders.next_painting_folder(parent, image_path, digits)
 
 
 # --- image sequences and the scene's render (Paint Animation) ----------------------

@@ -42,6 +42,7 @@ DECOYS = (
     "wheels/decoy-1.0-py3-none-any.whl",
     "core/__pycache__/decoy.cpython-311.pyc",
     "scene.blend1",
+    "paint_relief.egg-info/PKG-INFO",
 )
 # The wheels each Python needs: SciPy everywhere; OpenImageIO only on Python 3.11, for Blender 4.2 LTS, which
 # has no OpenImageIO binding of its own (4.4 and later bundle one).
@@ -198,6 +199,19 @@ def test_packages_hold_the_extension_and_nothing_else(built_zips):
                        or any(part.startswith(".") or part == "__pycache__" for part in name.split("/"))
                        or name.endswith((".pyc", ".blend1")))
         assert not stray, "files that must stay out of {}: {}".format(zip_path.name, stray)
+
+
+def test_the_extension_carries_no_dask(built_zips):
+    """Dask is for the painter on a cluster (pyproject.toml's `farm` extra), never inside Blender."""
+    farm = ("dask", "distributed")
+    listed = [w for w in _manifest()["wheels"] if w.split("/")[-1].split("-")[0].lower() in farm]
+    assert not listed, "the manifest lists Dask wheels: {}".format(listed)
+    for zip_path in built_zips.values():
+        with zipfile.ZipFile(zip_path) as archive:
+            names = archive.namelist()
+        carried = [n for n in names if any(part.lower() == name or part.lower().startswith(name + "-")
+                                          for part in n.split("/") for name in farm)]
+        assert not carried, "{} carries Dask: {}".format(zip_path.name, carried[:5])
 
 
 def test_install_enable_disable_enable(this_platforms_zip, tmp_path):

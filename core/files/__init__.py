@@ -6,21 +6,37 @@ painting's folder of maps and its report (``export``), the all-or-nothing
 commit of a folder's outputs (``staging``, with its folder lock and signal
 handling), checks of a painted folder's maps (``maps``), the memory and
 size budget of an input (``budget``), the frames of a sequence
-(``frames``), the lives of a sequence's strokes (``lives``) and quieting
-the image libraries' own messages (``quiet``).
+(``frames``), the lives of a sequence's strokes (``lives``), where each
+painting's folder goes (``folders``) and quieting the image libraries' own
+messages (``quiet``).
+
+``import core.files`` is light: the public functions below load their module
+(and NumPy, OpenImageIO) on first use, so ``core.files.folders`` serves the
+extension before the painter's libraries are loaded.
 """
 
-from .budget import check, check_bomb, check_stroke_sizes, estimate_bytes, parse_size
-from .export import PAINTING_FILES, write_painting
-from .maps import check_maps, check_painting
-from .reading import probe, read_exr, read_gray, read_image
-from .staging import output_folder, recover, settle, staged_outputs
-from .writing import write_exr, write_json, write_png, write_text
+import importlib
 
-__all__ = [
-    "check", "check_bomb", "check_stroke_sizes", "estimate_bytes", "parse_size",
-    "PAINTING_FILES", "write_painting",
-    "probe", "read_exr", "read_gray", "read_image", "write_exr", "write_json", "write_png", "write_text",
-    "check_maps", "check_painting",
-    "output_folder", "recover", "settle", "staged_outputs",
-]
+# {public name: the module of this package that defines it}
+_HOMES = {
+    "check": "budget", "check_bomb": "budget", "check_stroke_sizes": "budget", "estimate_bytes": "budget",
+    "parse_size": "budget",
+    "PAINTING_FILES": "export", "write_painting": "export",
+    "check_maps": "maps", "check_painting": "maps",
+    "probe": "reading", "read_exr": "reading", "read_gray": "reading", "read_image": "reading",
+    "output_folder": "staging", "recover": "staging", "settle": "staging", "staged_outputs": "staging",
+    "write_exr": "writing", "write_json": "writing", "write_png": "writing", "write_text": "writing",
+    "folder_stem": "folders", "next_painting_folder": "folders", "painting_folders": "folders",
+}
+
+__all__ = list(_HOMES)
+
+
+def __getattr__(name):
+    if name in _HOMES:
+        return getattr(importlib.import_module("." + _HOMES[name], __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_HOMES))

@@ -1,0 +1,62 @@
+"""Where paintings go: each painting's own folder, ``<parent>/<stem>_<counter>``.
+
+A photograph ``My photo (1).JPG`` painted into ``parent`` gets the folder
+``parent/My_photo_1_001``, or ``_002``, ... when that one exists already, so
+a new painting never overwrites an earlier one. Blender's Paint button and
+the command line name folders by this one rule. Nothing here touches the
+disk but to ask whether a path exists: no folder is created.
+
+Standard library only, and ``core.files`` loads its other modules on first
+use, so the extension can name folders without loading the painter's
+libraries.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from typing import Iterable, List
+
+# Counter width of a painting folder's name: photo_001.
+DIGITS = 3
+
+
+def folder_stem(image_path) -> str:
+    """A folder-name-safe stem of an image file name: ``"My photo (1).JPG"`` -> ``"My_photo_1"``.
+
+    Letters, digits, '-' and '_' are kept, runs of anything else become one
+    '_'; an empty result becomes ``"painting"``.
+    """
+    stem = os.path.splitext(os.path.basename(str(image_path).rstrip("/\\")))[0]
+    stem = re.sub(r"[^0-9A-Za-z_-]+", "_", stem).strip("_")
+    return stem or "painting"
+
+
+def _first_free(parent, stem: str, digits: int, taken) -> str:
+    """The first ``parent/<stem>_<counter>`` (counter from 1, at least ``digits`` wide) that neither exists nor is
+    in ``taken``, a set of case-folded folders (``Photo_001`` and ``photo_001`` are one folder on macOS and Windows)."""
+    counter = 1
+    while True:
+        folder = os.path.join(parent, "{}_{:0{}d}".format(stem, counter, digits))
+        if folder.casefold() not in taken and not os.path.exists(folder):
+            return folder
+        counter += 1
+
+
+def next_painting_folder(parent, image_path, digits: int = DIGITS) -> str:
+    """The first ``parent/<stem>_<counter>`` (counter from 1, ``digits`` wide, wider past its largest) that does not
+    exist yet, ``stem`` being ``folder_stem(image_path)``. Nothing is created."""
+    return _first_free(parent, folder_stem(image_path), digits, ())
+
+
+def painting_folders(parent, inputs: Iterable, digits: int = DIGITS) -> List[str]:
+    """One folder per input, in order, all distinct: for each, the first ``parent/<stem>_<counter>`` that neither
+    exists nor was given to an earlier input of the list (``a/photo.png`` and ``b/photo.png`` get ``photo_001`` and
+    ``photo_002`` when neither exists; names differing only in case count as one). Nothing is created."""
+    taken = set()
+    folders = []
+    for image_path in inputs:
+        folder = _first_free(parent, folder_stem(image_path), digits, taken)
+        taken.add(folder.casefold())
+        folders.append(folder)
+    return folders
