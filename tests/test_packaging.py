@@ -87,7 +87,7 @@ def test_wheel_declares_the_painters_dependencies_and_the_farm_extra(wheel):
     assert plain == {"numpy", "scipy", "openimageio", "threadpoolctl"}, requires
     assert metadata.get_all("Provides-Extra") == ["farm"]
     farm = [r for r in requires if r.replace(" ", "").endswith('extra=="farm"')]
-    assert len(farm) == 1 and farm[0].startswith("dask[distributed]>="), requires
+    assert len(farm) == 1 and farm[0].startswith("dask[diagnostics,distributed]>="), requires
 
 
 def test_installed_wheel_runs_outside_the_repository(wheel, tmp_path):

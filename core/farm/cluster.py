@@ -10,6 +10,7 @@ worker's threads, not the painter's own thread pool, spread the work
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import logging
 import os
 import secrets
@@ -58,17 +59,16 @@ def connected(farm: Farm) -> Iterator[object]:
     """A ``distributed.Client`` of ``farm`` for the body, closed after it (a local cluster is shut down).
 
     FarmError (one sentence naming the address) when the scheduler cannot be reached or has no worker within
-    CONNECT_SECONDS. Dask's own log lines below warnings are silenced: progress is the caller's to show.
+    CONNECT_SECONDS. Dask's own log lines are silenced: progress and errors are the caller's to tell, in its words.
     """
     farm.validate()
     distributed = import_distributed()
-    for name in ("distributed", "tornado"):
-        logging.getLogger(name).setLevel(logging.ERROR)
+    quiet_logs()
     with contextlib.ExitStack() as stack:
         if farm.scheduler is None:
             cluster = stack.enter_context(distributed.LocalCluster(
                 n_workers=farm.workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                silence_logs=logging.ERROR))
+                silence_logs=logging.CRITICAL))
             client = stack.enter_context(distributed.Client(cluster, set_as_default=False))
         else:
             client = stack.enter_context(reach(distributed, farm.scheduler))
@@ -76,6 +76,13 @@ def connected(farm: Farm) -> Iterator[object]:
 
         client.register_plugin(PainterWorker(), name="paint-relief-painter")
         yield client
+
+
+def quiet_logs() -> None:
+    """Silence Dask's and Tornado's loggers (Dask sets some of its child loggers' levels itself)."""
+    names = [name for name in logging.root.manager.loggerDict if name.startswith(("distributed", "tornado"))]
+    for name in ["distributed", "tornado", *names]:
+        logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
 @contextlib.contextmanager
@@ -106,8 +113,14 @@ def describe(client) -> str:
     info = client.scheduler_info()
     count = len(info.get("workers", {}))
     noun = "worker" if count == 1 else "workers"
-    dashboard = f", dashboard {client.dashboard_link}" if "dashboard" in info.get("services", {}) else ""
-    return f"{count} {noun}{dashboard}"
+    has_dashboard = "dashboard" in info.get("services", {}) and client.run_on_scheduler(bokeh_installed)
+    return f"{count} {noun}" + (f", dashboard {client.dashboard_link}" if has_dashboard else "")
+
+
+def bokeh_installed() -> bool:
+    """Run on the scheduler: whether it can serve its dashboard (Dask draws it with Bokeh; without Bokeh the
+    dashboard's address answers with a page asking for it)."""
+    return importlib.util.find_spec("bokeh") is not None
 
 
 def address(client) -> str:

@@ -30,14 +30,14 @@ from __future__ import annotations
 import concurrent.futures
 import secrets
 import time
-from typing import Dict, Tuple
+from typing import Dict, Optional, Tuple
 
 from ..errors import Cancelled
 from ..files.staging import recover
 from ..progress import CancelFn, ProgressFn
 from ..sequence.shot import VECTOR_PASS_MOTION, Run
 from ..sequence.tasks import shown_frame
-from .cluster import FarmError, address, check_paths, describe, import_distributed, large_arguments, plain
+from .cluster import FarmError, address, check_paths, describe, import_distributed, large_arguments
 from .pieces import lived, motion_between, prepared, written
 
 WAIT_SECONDS = 0.25
@@ -57,9 +57,9 @@ class ClusterFrames:
             check_paths(self.client, run.frames.paths[max(start - 1, 0):], [folder.folder])
             with large_arguments(), self.client.as_current():
                 Frames(self.client, run, start, folder).paint(report, progress, cancel)
-        except (concurrent.futures.CancelledError, distributed.comm.CommClosedError, OSError) as exc:
-            raise FarmError(f"Lost the Dask scheduler at {address(self.client)} ({plain(exc)}); the complete "
-                            f"frames in {folder.folder} stay, and the same command goes on after them.") from None
+        except (concurrent.futures.CancelledError, distributed.comm.CommClosedError, OSError):
+            raise FarmError(f"Lost the Dask scheduler at {address(self.client)}; the complete frames in "
+                            f"{folder.folder} stay, and the same command goes on after them.") from None
         except distributed.scheduler.KilledWorker as exc:
             raise FarmError(f"Dask workers died again and again on {exc.task}; the complete frames in "
                             f"{folder.folder} stay, and the same command goes on after them.") from None
@@ -84,6 +84,7 @@ class Frames:
         """Run pieces and commit frames in order until every frame is committed."""
         distributed = import_distributed()
         where = describe(self.client)
+        self.threads = self.client.nthreads()
         if self.start > 0:
             self.strokes[self.start - 1] = self.run.resumed_frame(self.folder.folder)
             self.submit("shown", self.start - 1, shown_frame, self.strokes[self.start - 1], self.run.params,
@@ -129,9 +130,12 @@ class Frames:
             busy[worker] = busy.get(worker, 0) + 1
         return {w: n - busy.get(w, 0) for w, n in self.threads.items() if n > busy.get(w, 0)}
 
-    def place(self, inputs) -> str:
-        """The free worker that holds the most of the futures ``inputs`` (the first by address on a tie)."""
-        free = sorted(self.free_workers())
+    def place(self, inputs) -> Optional[str]:
+        """The free worker that holds the most of the futures ``inputs`` (the first by address on a tie); when none
+        is free, any worker; None when there is no worker."""
+        free = sorted(self.free_workers()) or sorted(self.threads)
+        if not free:
+            return None
         held = {w: 0 for w in free}
         if inputs:
             for workers in self.client.who_has(inputs).values():
@@ -201,7 +205,8 @@ class Frames:
         """Run ``function(*args)`` as the piece ``name`` of frame ``index``, keyed so on the dashboard."""
         key = f"paint-relief-{name}-{self.run.frames.numbers[index]}-{self.token}"
         worker = self.place([a for a in args if hasattr(a, "key")])
-        future = self.client.submit(function, *args, key=key, pure=False, workers=[worker], allow_other_workers=True)
+        future = self.client.submit(function, *args, key=key, pure=False, workers=worker and [worker],
+                                    allow_other_workers=True)
         self.futures[name, index] = future
         self.running[future] = worker
 

@@ -1,0 +1,143 @@
+"""A sequence painted on a real Dask cluster (a ``dask scheduler`` and ``dask worker`` processes on loopback): the
+same bytes as one process through lost workers, a lost scheduler and resumed runs; one sentence for what cannot
+be reached or seen."""
+
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("distributed")
+
+from dask_cluster import cluster  # noqa: E402
+from tiny_shot import shot  # noqa: E402
+
+from core import paint_sequence_files  # noqa: E402
+from core.errors import Cancelled, OutputError  # noqa: E402
+from core.farm.cluster import Farm, FarmError  # noqa: E402
+from core.params import Params  # noqa: E402
+
+FRAMES = 8
+PARAMS = dict(seed=4)
+
+
+@pytest.fixture(autouse=True)
+def time_limit():
+    """A farm test that hangs (a piece waiting for a worker that never comes) fails instead."""
+    def expired(signum, frame):
+        raise TimeoutError("the farm test did not finish within 240 s")
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.alarm(240)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, previous)
+
+
+def files_of(folder: Path) -> dict:
+    """{name: bytes} of every frame file, the lives file and the state (not report.json: it holds seconds)."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file() and p.name != "report.json"}
+
+
+@pytest.fixture(scope="module")
+def footage(tmp_path_factory):
+    """The tiny shot's 8 frames and the files one process paints from them."""
+    folder = tmp_path_factory.mktemp("farm")
+    frames = shot(folder / "frames", frames=FRAMES)
+    paint_sequence_files([frames], folder / "alone", Params(**PARAMS))
+    return frames, files_of(folder / "alone")
+
+
+def killing_after(committed: int, process: subprocess.Popen, kills: list):
+    """A progress callback that SIGKILLs ``process`` once ``committed`` frames are committed."""
+    def progress(fraction, message):
+        if not kills and message.startswith(f"{committed}/"):
+            process.send_signal(signal.SIGKILL)
+            process.wait()
+            kills.append(message)
+    return progress
+
+
+def test_a_sequence_that_loses_a_worker_midway_is_complete_and_the_same_bytes_as_one_process(tmp_path, footage):
+    frames, alone = footage
+    with cluster(tmp_path / "cluster") as dask:
+        kills = []
+        report = paint_sequence_files([frames], tmp_path / "out", Params(**PARAMS),
+                                      progress=killing_after(1, dask.workers[0], kills),
+                                      farm=Farm(scheduler=dask.address))
+        assert kills and dask.workers[0].returncode == -signal.SIGKILL and dask.workers[1].poll() is None
+    assert report["complete"] and len(report["per_frame"]) == FRAMES
+    assert files_of(tmp_path / "out") == alone
+    assert not [p.name for p in (tmp_path / "out").iterdir() if p.name.startswith(".staging-")]
+
+
+def test_a_lost_scheduler_is_one_sentence_the_complete_frames_stay_and_a_rerun_goes_on_to_the_same_bytes(
+        tmp_path, footage):
+    frames, alone = footage
+    out = tmp_path / "out"
+    with cluster(tmp_path / "first") as dask:
+        with pytest.raises(FarmError) as lost:
+            paint_sequence_files([frames], out, Params(**PARAMS), progress=killing_after(2, dask.scheduler, []),
+                                 farm=Farm(scheduler=dask.address))
+    message = str(lost.value)
+    assert dask.address in message and str(out) in message and message.count(". ") == 0
+    kept = files_of(out)
+    assert 2 <= sum(name.startswith("painting_") for name in kept) < FRAMES
+    assert all(alone[name] == data for name, data in kept.items() if name.startswith(("painting_", "height_")))
+    with cluster(tmp_path / "second") as dask:
+        report = paint_sequence_files([frames], out, Params(**PARAMS), farm=Farm(scheduler=dask.address))
+    assert report["complete"] and files_of(out) == alone
+
+
+def test_local_workers_and_a_run_resumed_on_them_give_the_bytes_of_one_process(tmp_path, footage):
+    frames, alone = footage
+    paint_sequence_files([frames], tmp_path / "workers", Params(**PARAMS), farm=Farm(workers=2))
+    assert files_of(tmp_path / "workers") == alone
+
+    def cancel_after_three():
+        return sum(1 for p in (tmp_path / "resumed").glob("painting_*.png")) >= 3
+
+    with pytest.raises(Cancelled):
+        paint_sequence_files([frames], tmp_path / "resumed", Params(**PARAMS), cancel=cancel_after_three)
+    assert len(list((tmp_path / "resumed").glob("painting_*.png"))) == 3
+    paint_sequence_files([frames], tmp_path / "resumed", Params(**PARAMS), farm=Farm(workers=2))
+    assert files_of(tmp_path / "resumed") == alone
+
+
+def test_an_unreachable_scheduler_is_one_sentence_naming_it_and_nothing_is_written(tmp_path, footage):
+    frames, _ = footage
+    address = "tcp://127.0.0.1:9"     # the discard port: nothing listens there
+    result = subprocess.run([sys.executable, "-m", "core", "sequence", str(frames), "-o", str(tmp_path / "out"),
+                             "--scheduler", address, "-q"], capture_output=True, text=True, timeout=120,
+                            cwd=Path(__file__).resolve().parents[1])
+    assert result.returncode != 0
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and address in lines[0] and "Traceback" not in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def can_unshare() -> bool:
+    """Whether this machine lets a process have a mount namespace of its own (root with CAP_SYS_ADMIN)."""
+    try:
+        return subprocess.run(["unshare", "--mount", "true"], capture_output=True, timeout=10).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
+@pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
+def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(tmp_path, footage):
+    frames, _ = footage
+    hidden = tmp_path / "shared" / "frames"
+    hidden.mkdir(parents=True)
+    for frame in sorted(frames.iterdir()):
+        (hidden / frame.name).write_bytes(frame.read_bytes())
+    # Each worker sees an empty folder over the frames, as a machine that has not mounted the shared storage.
+    prefix = ["unshare", "--mount", "--propagation", "private", "sh", "-c",
+              f"mount -t tmpfs none {hidden} && exec \"$@\"", "worker"]
+    with cluster(tmp_path / "cluster", workers=1, worker_prefix=prefix) as dask:
+        with pytest.raises(OutputError) as refused:
+            paint_sequence_files([hidden], tmp_path / "out", Params(**PARAMS), farm=Farm(scheduler=dask.address))
+    message = str(refused.value)
+    assert "tcp://127.0.0.1:" in message and str(hidden / "frame_0011.png") in message and "cannot read" in message
+    assert not (tmp_path / "out").exists()
