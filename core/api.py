@@ -5,11 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable, Optional
 
-from .errors import InputError, PaintReliefError
+from .errors import InputError, PaintReliefError, ParameterError
 from .files import budget, reading
 from .files.staging import output_folder
 from .params import Params
-from .progress import CancelFn, ProgressFn
+from .progress import CancelFn, ProgressFn, Stage
 
 
 def check_input(input_path, params: Params, mask_path: Optional[str] = None,
@@ -106,6 +106,42 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
                                   frames_painter=ClusterFrames(client))
     except MemoryError:
         raise out_of_memory(frames.paths[0]) from None
+
+
+def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, progress: ProgressFn = None,
+                cancel: CancelFn = None, max_memory: Optional[int] = None, farm=None) -> list:
+    """Paint each still image of ``inputs`` into a folder of its own under ``output_root``; return the reports in
+    the inputs' order (each with its "output_dir").
+
+    The folders are named as the panel names a painting's (``files.folders.painting_folders``: ``<stem>_001``,
+    the first counter that is free), so a batch never writes over an earlier painting. Every input is checked from
+    its headers first (``check_input``): a bad file is refused in one sentence before anything is painted. Each
+    still is painted by ``paint_file``, in this process one after another, or on a Dask cluster with ``farm`` (a
+    ``core.farm.cluster.Farm``), with the same bytes. Stopped anywhere, the stills painted stay.
+    """
+    from .files.folders import painting_folders
+
+    if not inputs:
+        raise ParameterError("Name at least one image to paint.")
+    for source in inputs:
+        check_input(source, params, max_memory=max_memory)
+    folders = painting_folders(str(output_root), [str(source) for source in inputs])
+    if farm is not None:
+        from .farm.batch import paint_stills
+        from .farm.cluster import connected
+
+        with connected(farm) as client:
+            Path(output_root).mkdir(parents=True, exist_ok=True)
+            return paint_stills(client, paint_file, list(zip(inputs, folders, strict=True)), Path(output_root), params,
+                                normal_map, progress, cancel)
+    reports = []
+    for k, (source, folder) in enumerate(zip(inputs, folders, strict=True)):
+        stage = Stage(progress, cancel, k / len(inputs), (k + 1) / len(inputs))
+        named = None if progress is None else (
+            lambda fraction, message, k=k, stage=stage: stage.report(fraction, f"Still {k + 1}/{len(inputs)}: "
+                                                                               f"{message}"))
+        reports.append(paint_file(source, folder, params, progress=named, cancel=cancel, normal_map=normal_map))
+    return reports
 
 
 def pages_notice(input_path, pages: int) -> str:

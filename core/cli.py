@@ -131,6 +131,20 @@ def _add_stroke_options(p: argparse.ArgumentParser) -> None:
                    help="also write the height map's tangent-space normals (for renderers that shade a flat plane)")
 
 
+def _add_method_options(p: argparse.ArgumentParser) -> None:
+    """The painter, and the Hertzmann 1998 baseline's style and layout."""
+    p.add_argument("--method", default=DEFAULTS.method, metavar="huang11|hertzmann98",
+                   help="huang11: the paper's painter; hertzmann98: the Hertzmann 1998 baseline "
+                        "(default: %(default)s)")
+    p.add_argument("--style", default=DEFAULTS.style, metavar="impressionist|expressionist|colorist_wash|pointillist",
+                   help="Hertzmann 1998 style: the baseline's settings with --method hertzmann98, its "
+                        "threshold and grid with --layout hertzmann98 (colorist-wash also accepted) "
+                        "(default: %(default)s)")
+    p.add_argument("--layout", default=DEFAULTS.layout, metavar="paper|hertzmann98",
+                   help="huang11 stroke layout: paper (importance partition) or hertzmann98 "
+                        "(layered grid ablation, Fig. 8b) (default: %(default)s)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
     parser = _Parser(prog="python -m core", description="Paint Relief's painter.")
@@ -148,19 +162,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "painting.png, lit_paper.png, strokes.json and report.json (and normal.exr with --normal-map).")
     _add_analysis_options(paint_p)
     _add_stroke_options(paint_p)
-    paint_p.add_argument("--method", default=DEFAULTS.method, metavar="huang11|hertzmann98",
-                         help="huang11: the paper's painter; hertzmann98: the Hertzmann 1998 baseline "
-                              "(default: %(default)s)")
-    paint_p.add_argument("--style", default=DEFAULTS.style,
-                         metavar="impressionist|expressionist|colorist_wash|pointillist",
-                         help="Hertzmann 1998 style: the baseline's settings with --method hertzmann98, its "
-                              "threshold and grid with --layout hertzmann98 (colorist-wash also accepted) "
-                              "(default: %(default)s)")
-    paint_p.add_argument("--layout", default=DEFAULTS.layout, metavar="paper|hertzmann98",
-                         help="huang11 stroke layout: paper (importance partition) or hertzmann98 "
-                              "(layered grid ablation, Fig. 8b) (default: %(default)s)")
+    _add_method_options(paint_p)
     paint_p.set_defaults(run=run_paint)
     _add_sequence_parser(sub)
+    _add_batch_parser(sub)
     _add_light_parser(sub)
     _add_experiments_parser(sub)
     return parser
@@ -239,6 +244,37 @@ def _add_sequence_parser(sub) -> None:
     _add_run_options(p)
     _add_farm_options(p)
     p.set_defaults(run=run_sequence)
+
+
+def _add_batch_parser(sub) -> None:
+    p = sub.add_parser(
+        "batch", help="paint unrelated stills, each into a folder of its own",
+        description="Paint each INPUT as `paint` does into OUTROOT/<name>_001 (the first free counter, as the "
+                    "Blender panel names a painting's folder), in this process one after another or on a Dask "
+                    "cluster, with the same bytes. Every input is checked before any painting.")
+    p.add_argument("input", nargs="+", metavar="INPUT", help="still images to paint (PNG, JPEG, TIFF, EXR, ...)")
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTROOT",
+                   help="folder under which each painting gets its own folder (created if missing)")
+    _add_partition_options(p)
+    _add_stroke_options(p)
+    _add_method_options(p)
+    _add_run_options(p)
+    _add_farm_options(p)
+    p.set_defaults(run=run_batch)
+
+
+def run_batch(args: argparse.Namespace, progress) -> None:
+    """The ``batch`` subcommand: one line per still on stdout, "INPUT -> FOLDER", once all are painted."""
+    from .api import paint_batch
+    from .heap import reused_heap
+
+    with reused_heap():
+        reports = paint_batch(args.input, args.output, params_from_args(args), args.normal_map, progress=progress,
+                              max_memory=max_memory(args), farm=farm_from_args(args))
+    if progress is not None:
+        progress.close()
+    for source, report in zip(args.input, reports, strict=True):
+        print(f"{source} -> {report['output_dir']}")
 
 
 def _add_farm_options(p) -> None:
@@ -454,6 +490,8 @@ def _interrupted_message(exc: "signals.Interrupted", args: argparse.Namespace) -
     if args.command == "sequence":
         return (f"Stopped by {exc.name}; every frame in {args.output} is complete, and the same command goes on "
                 f"after the last of them.")
+    if args.command == "batch":
+        return f"Stopped by {exc.name}; the stills painted stay in {args.output}, each folder complete."
     if exc.committed:
         return f"Stopped by {exc.name} after every output was written to {exc.committed}."
     return f"Stopped by {exc.name}; {_folder_phrase(args)} was left as it was."

@@ -141,3 +141,36 @@ def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(
     message = str(refused.value)
     assert "tcp://127.0.0.1:" in message and str(hidden / "frame_0011.png") in message and "cannot read" in message
     assert not (tmp_path / "out").exists()
+
+
+def test_a_frame_written_twice_goes_to_two_staging_folders_of_the_same_bytes(tmp_path, footage):
+    """A piece that runs twice (a worker thought lost finishes anyway) never writes into the other run's files:
+    each writing makes a staging folder of its own, and the commit takes one whole."""
+    from core.farm.pieces import prepared, written
+    from core.progress import Stage
+    from core.sequence.tasks import life, shown_frame
+
+    frames, alone = footage
+    path = sorted(frames.iterdir())[0]
+    params = Params(**PARAMS)
+    frame = prepared(path, params, False, False)
+    painted = life(None, 0, frame.frame, None, params, 3, Stage(None, None))
+    shown = shown_frame(painted, params, frame.frame.image.shape[:2])
+    first, second = (written(tmp_path, 11, painted, shown, path, None, None, None, params, False) for _ in range(2))
+    assert first.staging != second.staging and first.staging.parent == second.staging.parent == tmp_path
+    assert first.files == second.files
+    assert {p.name: p.read_bytes() for p in first.staging.iterdir()} == \
+        {p.name: p.read_bytes() for p in second.staging.iterdir()}
+    assert (first.staging / "height_0011.exr").read_bytes() == alone["height_0011.exr"]
+
+
+def test_without_a_farm_the_painter_imports_no_dask(tmp_path, footage):
+    frames, _ = footage
+    code = ("import sys\nfrom core.cli import main\n"
+            f"assert main(['sequence', {str(frames)!r}, '-o', {str(tmp_path / 'seq')!r}, '-q', '--frames', '11-12']) == 0\n"
+            f"assert main(['batch', {str(sorted(frames.iterdir())[0])!r}, '-o', {str(tmp_path / 'batch')!r}, '-q']) == 0\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
+                            cwd=Path(__file__).resolve().parents[1])
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip().splitlines()[-1] == "[]"

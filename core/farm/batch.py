@@ -1,0 +1,63 @@
+"""A batch of unrelated stills painted on a Dask cluster: one task per still, each into its own folder.
+
+Each still is painted by the same call as in one process (``core.api.paint_file``,
+handed in by the caller), so its folder holds the same bytes. A still whose
+worker is lost is painted again elsewhere; its folder's lock and all-or-nothing
+commit (``files.staging``) keep a second painting of it from mixing files.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import secrets
+from pathlib import Path
+from typing import Callable, List, Tuple
+
+from ..errors import Cancelled
+from ..params import Params
+from ..progress import CancelFn, ProgressFn
+from .cluster import FarmError, address, check_paths, describe, import_distributed
+
+WAIT_SECONDS = 0.25
+"""Seconds between looks at the cancel callback while stills are painted."""
+
+
+def paint_stills(client, paint_file: Callable, jobs: List[Tuple[Path, Path]], output_root: Path, params: Params,
+                 normal_map: bool, progress: ProgressFn = None, cancel: CancelFn = None) -> List[dict]:
+    """Paint each (input, folder) of ``jobs`` with ``paint_file(input, folder, params, normal_map=...)`` on
+    ``client``'s cluster; return the reports in the jobs' order.
+
+    Every worker must read every input and write under ``output_root`` (checked first: one sentence naming the
+    worker and the path). progress(fraction, message) after each still; cancel() stops the batch (the stills
+    painted stay). A still that fails raises its error and the rest are cancelled; a lost scheduler is a FarmError.
+    """
+    distributed = import_distributed()
+    check_paths(client, [source for source, _ in jobs], [output_root])
+    where = describe(client)
+    token = secrets.token_hex(4)
+    futures = [client.submit(paint_file, str(source), str(folder), params, normal_map=normal_map,
+                             key=f"paint-relief-still-{k}-{token}", pure=False)
+               for k, (source, folder) in enumerate(jobs)]
+    try:
+        with client.as_current():
+            while True:
+                done = sum(f.done() for f in futures)
+                if progress is not None:
+                    progress(done / len(jobs), f"{done}/{len(jobs)} stills painted ({where})")
+                for future in futures:
+                    if future.done() and future.status != "finished":
+                        future.result()
+                if done == len(jobs):
+                    return [future.result() for future in futures]
+                if cancel is not None and cancel():
+                    raise Cancelled(f"The batch was cancelled; the {done} stills painted stay in {output_root}.")
+                pending = [f for f in futures if not f.done()]
+                try:
+                    distributed.wait(pending, timeout=WAIT_SECONDS, return_when="FIRST_COMPLETED")
+                except TimeoutError:
+                    continue
+    except (concurrent.futures.CancelledError, distributed.comm.CommClosedError, OSError):
+        raise FarmError(f"Lost the Dask scheduler at {address(client)}; the stills painted stay in "
+                        f"{output_root}.") from None
+    finally:
+        client.cancel([f for f in futures if not f.done()])

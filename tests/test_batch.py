@@ -1,0 +1,83 @@
+"""`core batch`: unrelated stills painted each into a folder named as the panel names it, in one process or on a
+local Dask cluster, the same bytes as each painted alone; a bad input refused before anything is painted."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from core import paint_file
+from core.api import paint_batch
+from core.errors import InputError
+from core.files.reading import read_image
+from core.files.writing import write_png
+from core.params import Params
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = ["coffee.png", "chelsea.png", "astronaut.png", "hubble.jpg"]
+PARAMS = Params(seed=9)
+
+
+def photos(folder: Path) -> list:
+    """Six small photographs (128 x 96 windows of the sample scenes), two of them named photo.png in two
+    folders."""
+    paths = []
+    for k in range(6):
+        picture = read_image(ROOT / "sample_scenes" / SAMPLES[k % 4])[40 + 20 * k:136 + 20 * k, 60:188]
+        name = "photo.png" if k in (1, 4) else f"still {k}.png"
+        path = folder / f"set{k % 2}" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_png(path, np.ascontiguousarray(picture))
+        paths.append(path)
+    return paths
+
+
+def painted(folder: Path) -> dict:
+    """{name: bytes} of a painting's files, report.json without its seconds (the only thing a run's timing
+    changes)."""
+    files = {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file() and p.name != "report.json"}
+    report = json.loads((folder / "report.json").read_text())
+    report.pop("seconds")
+    return dict(files, report=report)
+
+
+def test_a_batch_on_two_local_workers_paints_each_still_as_painting_it_alone(tmp_path):
+    pytest.importorskip("distributed")
+    inputs = photos(tmp_path / "in")
+    (tmp_path / "out" / "photo_001").mkdir(parents=True)       # an earlier painting's folder is never written over
+    reports = paint_batch([str(p) for p in inputs], tmp_path / "out", PARAMS, farm=farm(2))
+    folders = [Path(r["output_dir"]).name for r in reports]
+    assert folders == ["still_0_001", "photo_002", "still_2_001", "still_3_001", "photo_003", "still_5_001"]
+    for source, folder in zip(inputs, folders, strict=True):
+        paint_file(str(source), tmp_path / "alone" / folder, PARAMS)
+        assert painted(tmp_path / "out" / folder) == painted(tmp_path / "alone" / folder), folder
+
+
+def test_a_batch_in_one_process_is_the_same_bytes_and_the_command_names_each_folder(tmp_path):
+    inputs = photos(tmp_path / "in")[:2]
+    result = subprocess.run([sys.executable, "-m", "core", "batch", *map(str, inputs), "-o", str(tmp_path / "out"),
+                             "--seed", "9", "-q"], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines() == [f"{inputs[0]} -> {tmp_path / 'out' / 'still_0_001'}",
+                                          f"{inputs[1]} -> {tmp_path / 'out' / 'photo_001'}"]
+    paint_file(str(inputs[1]), tmp_path / "alone", PARAMS)
+    assert painted(tmp_path / "out" / "photo_001") == painted(tmp_path / "alone")
+
+
+def test_a_bad_input_is_refused_in_one_sentence_before_any_still_is_painted(tmp_path):
+    inputs = photos(tmp_path / "in")[:3]
+    broken = tmp_path / "in" / "broken.png"
+    broken.write_bytes(b"not a picture")
+    with pytest.raises(InputError) as refused:
+        paint_batch([str(inputs[0]), str(broken), str(inputs[2])], tmp_path / "out", PARAMS)
+    assert str(broken) in str(refused.value)
+    assert not (tmp_path / "out").exists()
+
+
+def farm(workers: int):
+    from core.farm.cluster import Farm
+
+    return Farm(workers=workers)
