@@ -28,9 +28,19 @@ from core.motion import comes_back, visible_in_both
 from core.motion.warp import bilinear, pixel_positions
 from core.params import Params, SequenceSettings
 from core.progress import Stage
-from core.sequence.frame_step import FrameMotion, first_frame, next_frame, shown_canvas, unchanged
+from core.sequence.frame_step import (
+    FrameMotion,
+    analyse_frame,
+    carried_frame,
+    first_frame,
+    joined_rows,
+    next_frame,
+    settled_rows,
+    shown_canvas,
+    unchanged,
+)
 from core.sequence.shot import paint_sequence
-from core.strokes.stroke_list import PAINTING_BRUSH
+from core.strokes.stroke_list import PAINTING_BRUSH, reaching_rows
 
 ROOT = Path(__file__).resolve().parents[1]
 PHOTO = ROOT / "sample_scenes" / "chelsea.png"
@@ -290,3 +300,21 @@ def test_a_cancelled_sequence_keeps_its_complete_frames_and_goes_on_to_the_same_
                                                                                  "painting_0002.png"]
     paint_sequence(frames, tmp_path / "part", Params(seed=4))
     assert files_of(tmp_path / "part") == files_of(tmp_path / "whole")
+
+
+def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole():
+    """A cluster lays a frame's judging canvas in bands of rows side by side: each band lays only the strokes that
+    reach it (``reaching_rows``), and the bands joined are the same bytes as every stroke laid on one canvas."""
+    shape, step = (96, 128), (2.5, 1.5)
+    params = Params(seed=3, stroke_sizes=(32, 16, 8, 4))
+    first = first_frame(moved_photo(shape, (0, 0)), params, 3, NO_STAGE)
+    image = moved_photo(shape, (-step[0], -step[1]))
+    carried = carried_frame(first, image, uniform_motion(shape, step), params, analyse_frame(image, params))
+    whole = settled_rows(carried, params, shape, (0, shape[0])).canvas
+    for cuts in ([0, 48, 96], [0, 7, 30, 31, 64, 96]):
+        bands = list(zip(cuts[:-1], cuts[1:], strict=True))
+        parts = [settled_rows(carried, params, shape, rows) for rows in bands]
+        assert all(reaching_rows(carried.living.strokes, *rows).mean() < 0.9 for rows in bands if rows[1] - rows[0] < 40)
+        joined = joined_rows(parts[::-1])
+        for name in ("colour", "coverage", "height", "opacity"):
+            assert getattr(joined, name).tobytes() == getattr(whole, name).tobytes(), (cuts, name)

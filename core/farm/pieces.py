@@ -10,11 +10,20 @@ travels between workers.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import NamedTuple, Optional
+from typing import NamedTuple, Optional, Union
 
 from ..params import Params
 from ..progress import Stage
-from ..sequence.frame_step import FrameAnalysis, FrameMotion, PaintedFrame
+from ..sequence.frame_step import (
+    CanvasRows,
+    Carried,
+    FrameAnalysis,
+    FrameMotion,
+    PaintedFrame,
+    born_frame,
+    carried_frame,
+    unchanged,
+)
 from ..sequence.tasks import (
     FrameInput,
     ShownFrame,
@@ -47,10 +56,23 @@ def motion_between(before: Path, after: Path, params: Params, vector_pass: bool)
     return frame_motion(read_frame(before, params, vector_pass), read_frame(after, params, vector_pass))
 
 
-def lived(previous: Optional[PaintedFrame], index: int, frame: Prepared, motion: Optional[FrameMotion],
-          params: Params, fade_frames: int) -> PaintedFrame:
-    """Frame ``index``'s strokes from the frame before's (``tasks.life``)."""
-    return life(previous, index, frame.frame, motion, params, fade_frames, WORKER_STAGE, frame.analysed)
+def carried(previous: Optional[PaintedFrame], index: int, frame: Prepared, motion: Optional[FrameMotion],
+            params: Params, fade_frames: int) -> Union[PaintedFrame, Carried]:
+    """The first step of frame ``index``'s life: the frame's strokes when that is all (the first frame painted
+    as a still, a still stretch's frame: ``tasks.life``), else the frame before's strokes carried
+    (``frame_step.carried_frame``), whose judging canvas ``settled_rows`` lays next."""
+    if previous is None or unchanged(previous, motion):
+        return life(previous, index, frame.frame, motion, params, fade_frames, WORKER_STAGE)
+    return carried_frame(previous, frame.frame.image, motion, params, frame.analysed)
+
+
+def born(previous: PaintedFrame, index: int, frame: Prepared, motion: FrameMotion, params: Params,
+         carried_strokes: Carried, *judging_rows: CanvasRows) -> PaintedFrame:
+    """The last step of frame ``index``'s life: births on the judging canvas (``frame_step.born_frame``), with
+    the analysis's seconds."""
+    painted = born_frame(previous, index, frame.frame.image, motion, params, WORKER_STAGE, frame.analysed,
+                         carried_strokes, judging_rows)
+    return painted._replace(seconds={"analysis": frame.analysed.seconds, **painted.seconds})
 
 
 def written(folder: Path, number: int, painted: PaintedFrame, shown: ShownFrame, path: Path,

@@ -2,10 +2,12 @@
 
 Each frame's pieces (``pieces``) are Dask tasks: a frame's analysis and
 its motion from the frame before run ahead on any worker, as far as
-``ahead`` frames beyond the last committed; the strokes' life is one task
-per frame, which starts as soon as the frame before has lived; laying the
-frame shown and writing its maps into a staging folder of their own follow
-on any worker. This process commits each frame (the lives record, the
+``ahead`` frames beyond the last committed. The strokes' life starts as
+soon as the frame before has lived, in three steps: carrying the strokes
+(one short task), laying the judging canvas they make (bands of rows side
+by side, one task each: ``frame_step.settled_rows``), and the births on it
+(one task). Laying the frame shown and writing its maps into a staging
+folder of their own follow on any worker. This process commits each frame (the lives record, the
 state, the report and the staging folder, ``shot.Run.commit``) in frame
 order, so the output folder only ever holds complete frames, exactly as one
 process writes them.
@@ -30,18 +32,31 @@ from __future__ import annotations
 import concurrent.futures
 import secrets
 import time
-from typing import Dict, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 from ..errors import Cancelled
 from ..files.staging import recover
 from ..progress import CancelFn, ProgressFn
+from ..sequence.frame_step import Carried, settled_rows
 from ..sequence.shot import VECTOR_PASS_MOTION, Run
 from ..sequence.tasks import shown_frame
 from .cluster import FarmError, address, check_paths, describe, import_distributed, large_arguments
-from .pieces import lived, motion_between, prepared, written
+from .pieces import born, carried, motion_between, prepared, written
 
 WAIT_SECONDS = 0.25
 """Seconds between looks at the cancel callback while tasks run."""
+
+MAX_BANDS = 8
+"""Bands of rows a frame's judging canvas is laid in at most, side by side (one per worker thread up to this): a
+stroke across a band's edge is laid in both, so more bands than this cost more than they save."""
+
+
+def row_bands(height: int, parts: int) -> List[Tuple[int, int]]:
+    """[(first, stop), ...]: ``parts`` (at least 1) consecutive runs of about equal numbers of a frame's ``height``
+    rows."""
+    parts = max(1, min(parts, height))
+    cuts = [height * k // parts for k in range(parts + 1)]
+    return list(zip(cuts[:-1], cuts[1:], strict=True))
 
 
 class ClusterFrames:
@@ -78,6 +93,7 @@ class Frames:
         self.futures: Dict[Tuple[str, int], object] = {}
         self.running: Dict[object, str] = {}      # future: the worker it was sent to
         self.strokes: Dict[int, object] = {}
+        self.bands: Dict[int, List[Tuple[int, int]]] = {}     # frame: the rows of its judging canvas's pieces
         self.threads: Dict[str, int] = {}
 
     def paint(self, report: dict, progress: ProgressFn, cancel: CancelFn) -> None:
@@ -106,13 +122,26 @@ class Frames:
                 del self.running[future]
                 if future.status != "finished":
                     future.result()         # raises the piece's error, or CancelledError when the cluster is lost
-            if self.made("life", living):
-                self.strokes[living] = self.futures["life", living].result()
-                living += 1
+            living = self.lived(living)
             while committed < living and self.made("write", committed):
                 self.commit(committed, report)
                 committed += 1
                 self.report_progress(progress, committed, where)
+
+    def lived(self, living: int) -> int:
+        """Gather frame ``living``'s strokes when its life is over; return the first frame that has not lived."""
+        if self.made("carry", living) and living not in self.bands and ("life", living) not in self.futures:
+            first_step = self.futures["carry", living].result()
+            if isinstance(first_step, Carried):
+                self.bands[living] = row_bands(self.shape[0], min(sum(self.threads.values()), MAX_BANDS))
+            else:
+                self.futures["life", living] = self.futures["carry", living]
+        elif self.made("birth", living) and ("life", living) not in self.futures:
+            self.futures["life", living] = self.futures["birth", living]
+        if self.made("life", living):
+            self.strokes[living] = self.futures["life", living].result()
+            return living + 1
+        return living
 
     def dispatch(self, committed: int, living: int) -> None:
         """Start the most urgent pieces that can run, while fewer pieces run than the cluster has threads."""
@@ -148,7 +177,13 @@ class Frames:
         """(name, index) of the pieces that can start now, most urgent first: frames ``committed`` on are not
         committed, frames ``living`` on have not lived, frames ``ahead`` on wait."""
         if self.ready_to_live(living):
-            yield "life", living
+            yield "carry", living
+        for band in range(len(self.bands.get(living, ()))):
+            if (f"settle{band}", living) not in self.futures:
+                yield f"settle{band}", living
+        if (living in self.bands and ("birth", living) not in self.futures
+                and all(self.made(f"settle{band}", living) for band in range(len(self.bands[living])))):
+            yield "birth", living
         for index in range(living, min(living + 2, ahead)):
             yield from self.preparing(index)
         for index in range(committed, living):
@@ -168,7 +203,7 @@ class Frames:
 
     def ready_to_live(self, index: int) -> bool:
         """Whether frame ``index``'s life can start: the frame before has lived, and its own pieces are made."""
-        return (index < self.count and ("life", index) not in self.futures
+        return (index < self.count and ("carry", index) not in self.futures
                 and (index == 0 or index - 1 in self.strokes) and self.made("prepared", index)
                 and (index == 0 or self.made("motion", index)))
 
@@ -190,9 +225,16 @@ class Frames:
             self.submit(name, index, prepared, paths[index], params, self.vector_pass, index > 0)
         elif name == "motion":
             self.submit(name, index, motion_between, paths[index - 1], paths[index], params, self.vector_pass)
-        elif name == "life":
-            self.submit(name, index, lived, self.strokes.get(index - 1), index, future(("prepared", index)),
+        elif name == "carry":
+            self.submit(name, index, carried, self.strokes.get(index - 1), index, future(("prepared", index)),
                         future(("motion", index)), params, run.settings.fade_frames)
+        elif name.startswith("settle"):
+            rows = self.bands[index][int(name[len("settle"):])]
+            self.submit(name, index, settled_rows, future(("carry", index)), params, self.shape, rows)
+        elif name == "birth":
+            self.submit(name, index, born, self.strokes[index - 1], index, future(("prepared", index)),
+                        future(("motion", index)), params, future(("carry", index)),
+                        *(future((f"settle{band}", index)) for band in range(len(self.bands[index]))))
         elif name == "shown":
             self.submit(name, index, shown_frame, future(("life", index)), params, self.shape)
         else:
@@ -213,7 +255,8 @@ class Frames:
     def commit(self, index: int, report: dict) -> None:
         """Commit frame ``index`` (``Run.commit``) and let go of what only it and the frame before needed."""
         self.run.commit(self.folder, index, self.strokes[index], self.futures["write", index].result(), report)
-        for name in ("prepared", "motion", "life", "write"):
+        for name in ("prepared", "motion", "carry", "birth", "life", "write",
+                     *(f"settle{band}" for band in range(len(self.bands.pop(index, ()))))):
             self.futures.pop((name, index), None)
         self.futures.pop(("shown", index - 1), None)
         self.strokes.pop(index - 1, None)

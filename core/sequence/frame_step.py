@@ -31,7 +31,7 @@ from ..strokes.details import size_map
 from ..strokes.path import nearest_pixels
 from ..strokes.streams import frame_seed
 from ..strokes.stroke import colour_sources, detail_sources
-from ..strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeRecorder, lay_strokes
+from ..strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeRecorder, lay_strokes, reaching_rows
 from .carry import carry, recoloured
 from .living import LivingStrokes
 
@@ -95,31 +95,92 @@ def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stag
                         {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes})
 
 
+class Carried(NamedTuple):
+    """The frame before's strokes carried to this frame, before births: what the judging canvas is laid from."""
+
+    living: LivingStrokes       # carried and recoloured, in laying order (dying ones start fading out later)
+    gone: int                   # strokes that died at once (hidden, torn) or finished fading out
+    sizes: tuple                # the frame's standard stroke widths (px), whose tips lay the strokes
+    seconds: float              # wall-clock seconds of carrying them
+
+
 def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
                stage: Stage, analysed: Optional[FrameAnalysis] = None) -> PaintedFrame:
     """Frame ``index`` (>= 1) of (H, W, 3) sRGB [0, 1] ``image`` from the ``previous`` frame and the ``motion``
-    between them; ``analysed``: the frame's ``analyse_frame`` when it was made elsewhere (made here when None)."""
-    clock = Clock()
+    between them; ``analysed``: the frame's ``analyse_frame`` when it was made elsewhere (made here when None).
+    The three steps, each a piece a cluster runs as a task: ``carried_frame``, the judging canvas laid
+    (``settled_rows``, of every row here; bands of rows side by side on a cluster) and ``born_frame``."""
+    seconds = {}
     if analysed is None:
         analysed = analyse_frame(image, params, stage.cancel)
-        clock.lap("analysis")
+        seconds["analysis"] = analysed.seconds
+    carried = carried_frame(previous, image, motion, params, analysed)
+    stage.check()
+    judging = settled_rows(carried, params, image.shape[:2], (0, image.shape[0]))
+    painted = born_frame(previous, index, image, motion, params, stage, analysed, carried, [judging])
+    return painted._replace(seconds={**seconds, **painted.seconds})
+
+
+def carried_frame(previous: PaintedFrame, image: np.ndarray, motion: FrameMotion, params: Params,
+                  analysed: FrameAnalysis) -> Carried:
+    """The ``previous`` frame's strokes carried by the ``motion`` onto (H, W, 3) ``image`` (``carry``), dead ones
+    gone, anchor colours taken again from the frame (``recoloured``)."""
+    clock = time.perf_counter()
     analysis, sources = analysed.analysis, analysed.sources
-    shape = image.shape[:2]
     carried = carry(previous.living, motion.forward, motion.kept,
-                    size_map(analysis.grids, analysis.grid_sizes, shape), analysis.sizes,
+                    size_map(analysis.grids, analysis.grid_sizes, image.shape[:2]), analysis.sizes,
                     params.orientation_threshold)
     living = recoloured(carried.living, {s: sources[s].anchor for s in analysis.sizes}, detail_sources(image).anchor)
-    stage.check()
-    clock.lap("carry")
+    return Carried(living, carried.occluded + carried.faded, tuple(analysis.sizes), time.perf_counter() - clock)
+
+
+class CanvasRows(NamedTuple):
+    """Rows first .. first + H - 1 of a canvas, and the seconds laying them took."""
+
+    first: int
+    canvas: Canvas              # (H, W) rows of the canvas
+    seconds: float
+
+
+def settled_rows(carried: Carried, params: Params, shape: tuple, rows: Tuple[int, int]) -> CanvasRows:
+    """Rows ``rows`` = (first, stop) of the judging canvas of the (H, W) ``shape`` frame: the carried strokes that
+    are not dying laid at full contact on a blank canvas (only those that reach the rows: ``reaching_rows``)."""
+    clock = time.perf_counter()
+    strokes = carried.living.settled().strokes
+    canvas = Canvas.blank(shape, params.canvas_colour)
+    lay_strokes(canvas, strokes.subset(reaching_rows(strokes, *rows)), frame_tips(params, carried.sizes), params)
+    first, stop = rows
+    if (first, stop) != (0, shape[0]):
+        canvas = Canvas(*(np.ascontiguousarray(values[first:stop]) for values in
+                          (canvas.colour, canvas.coverage, canvas.height, canvas.opacity)))
+    return CanvasRows(first, canvas, time.perf_counter() - clock)
+
+
+def joined_rows(parts) -> Canvas:
+    """One canvas of consecutive ``CanvasRows`` covering every row, in order of their first row."""
+    parts = sorted(parts, key=lambda part: part.first)
+    if len(parts) == 1:
+        return parts[0].canvas
+    return Canvas(*(np.concatenate([getattr(part.canvas, name) for part in parts])
+                    for name in ("colour", "coverage", "height", "opacity")))
+
+
+def born_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
+               stage: Stage, analysed: FrameAnalysis, carried: Carried, judging_rows) -> PaintedFrame:
+    """Frame ``index`` from its ``carried`` strokes and the judging canvas they lay (``judging_rows``: its
+    ``CanvasRows``): where the carried painting leaves the frame bare or wrong (``birth_places``) the still
+    painter's layers and detail pass are born, and the carried strokes anchored there start to fade out."""
+    clock = time.perf_counter()
+    analysis, sources = analysed.analysis, analysed.sources
+    shape = image.shape[:2]
     tips = frame_tips(params, analysis.sizes)
-    judging = Canvas.blank(shape, params.canvas_colour)
-    lay_strokes(judging, living.settled().strokes, tips, params)
+    judging = joined_rows(judging_rows)
     came_from = pixel_positions(*shape) + motion.backward
     error = colour_distance(judging.colour, analysis.reference)
     laid_error = np.where(nearest(previous.fresh, came_from), error, bilinear(previous.error, came_from))
     eligible = birth_places(judging, error, laid_error, bilinear(previous.opacity, came_from), motion.seen_before,
                             params)
-    living, gone = living.fading_out(anchored_in(living.strokes.anchor, eligible))
+    living, gone = carried.living.fading_out(anchored_in(carried.living.strokes.anchor, eligible))
     recorder = StrokeRecorder()
     births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
     paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
@@ -127,12 +188,12 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     if params.detail_pass:
         paint_details(judging, image, analysis, sources, births, params.layers, stage.sub(0.9, 1.0), recorder,
                       eligible)
-    clock.lap("birth")
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
+    seconds = {"carry": carried.seconds, "settling": sum(part.seconds for part in judging_rows),
+               "birth": time.perf_counter() - clock}
     return PaintedFrame(frame, analysis.orientation, laid_error, eligible, judging.opacity,
-                        previous.next_ident + len(born), len(born), carried.occluded + carried.faded + gone,
-                        clock.seconds)
+                        previous.next_ident + len(born), len(born), carried.gone + gone, seconds)
 
 
 def unchanged(previous: PaintedFrame, motion: FrameMotion) -> bool:
@@ -154,20 +215,6 @@ def nearest(mask: np.ndarray, positions: np.ndarray) -> np.ndarray:
     """(H, W) bool: (H, W) ``mask`` at the pixels nearest (H, W, 2) (x, y) ``positions`` (clamped to the frame)."""
     rows, cols = nearest_pixels(mask.shape, positions[..., 0], positions[..., 1])
     return mask[rows, cols]
-
-
-class Clock:
-    """Wall-clock seconds of consecutive stages."""
-
-    def __init__(self) -> None:
-        self.seconds: Dict[str, float] = {}
-        self.start = time.perf_counter()
-
-    def lap(self, stage: str) -> None:
-        """Record the seconds since the last lap as ``stage``'s."""
-        now = time.perf_counter()
-        self.seconds[stage] = self.seconds.get(stage, 0.0) + now - self.start
-        self.start = now
 
 
 def birth_places(judging: Canvas, error: np.ndarray, laid_error: np.ndarray, opacity_before: np.ndarray,
