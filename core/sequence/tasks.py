@@ -8,7 +8,9 @@ of a cluster (``core.farm``), with the same bytes out:
 - ``frame_motion`` (frames t-1 and t);
 - ``life`` (frame t-1's strokes, frame t and the motion): the only piece
   that needs the piece before it of the same kind, so the strokes' life
-  runs in frame order, one short piece per frame;
+  runs in frame order (on a cluster in three steps, ``frame_step``'s
+  ``carried_frame``, ``settled_rows`` in bands side by side, and
+  ``born_frame``);
 - ``shown_frame`` (frame t's strokes laid) and ``written_frame`` (the maps
   and the measures, into a staging folder of their own).
 
