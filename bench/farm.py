@@ -25,8 +25,8 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    first frame's life + 249 x (life + commit), work = every piece of every
    frame on the workers, fill = the first frame's reading (before the chain
    can start), drain = laying and writing the last frame. Then the same with
-   every piece's inputs (and the life's result, to the client) sent over a
-   1 GB/s network (``--network-gbps``) and no transfer overlapping work: an
+   every piece's inputs (and the strokes and the maps' report the client
+   gathers) sent over a 1 GB/s network (``--network-gbps``) and no transfer overlapping work: an
    assumption, the worst case, since the driver places a piece on the worker
    holding most of its inputs.
 4. `python -m core sequence CLIP -o DIR --seed 5 --workers N` for N = 1 and
@@ -36,7 +36,8 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    ratio of --workers 2 to --workers 1, the peak resident memory of the
    largest process (the command or one of its workers: ru_maxrss from
    os.wait4), and whether every run wrote the same bytes (every .png, .exr
-   and strokes.lives file).
+   and strokes.lives file). These commands run before the pieces are timed,
+   since a child started by vfork counts this process's peak as its own.
 
 Usage: python bench/farm.py [--clip DIR] [--frames A-B] [--small-clip DIR] [--runs 3] [--seed 5]
          [--skip-pieces] [--skip-speedup]
