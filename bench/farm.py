@@ -1,0 +1,419 @@
+"""Benchmark of painting a sequence on a Dask cluster (``core.farm``): the pieces' times, their sequential share,
+a projection to many machines, and the measured speed-up of `core sequence --workers 2` over `--workers 1`.
+
+1. The pieces (``core.farm.pieces``) of every frame of ``--clip`` (default
+   /work/footage/bbb1080, ``--frames`` 1-5), called one after another in this
+   process exactly as the cluster driver (``core.farm.sequence``) calls them:
+   ``prepared`` (reading, analysis), ``motion_between``, the strokes' life in
+   its three steps (``carried``; ``settled_rows``, the judging canvas laid in
+   ``--bands`` bands of rows, timed one by one; ``born``), ``shown_frame``
+   (laying the frame shown), ``written`` (the maps into a staging folder, with
+   the measures), then ``shot.Run.commit``
+   itself (the lives appended, the state, report.json and the staging folder
+   committed), which the driver runs on the client. The painter runs on one
+   thread, as on a Dask worker (``core.farm.plugin.PainterWorker``:
+   ``tuning.MAX_WORKERS`` and ``tuning.WRITERS`` 1, the C heap reused). The
+   table gives each piece's median seconds over the frames after the first,
+   the first frame's pieces apart (its life, in "carry", is the still), and each
+   result's size pickled (``pickle`` protocol 5: what travels between
+   workers). Peak memory is this process's ru_maxrss (the pieces of two
+   frames alive, as the driver keeps them, and their pickles).
+2. The sequential share: (carry + birth + commit) over all the work of a
+   frame after the first. Frame t's life needs frame t-1's, and the client
+   commits frames one at a time, so these run in frame order whatever the
+   cluster's size; the judging canvas's bands run side by side between them.
+3. A projection of a 250-frame shot (``--projected-frames``) onto 1, 8 and 32
+   machines of 2 single-threaded workers each, from the measured piece
+   times: max(chain, work / threads) + fill + drain, where chain = the
+   first frame's life + 249 x (carry + settling + birth + commit), settling
+   on T threads being max(the longest band, all bands / min(T, bands)),
+   work = every piece of every
+   frame on the workers, fill = the first frame's reading (before the chain
+   can start), drain = laying and writing the last frame. Then the same with
+   every piece's inputs (and the strokes and the maps' report the client
+   gathers) sent over a 1 GB/s network (``--network-gbps``) and no transfer overlapping work: an
+   assumption, the worst case, since the driver places a piece on the worker
+   holding most of its inputs.
+4. `python -m core sequence CLIP -o DIR --seed 5 --workers N` for N = 1 and
+   2 on ``--small-clip`` (default /work/footage/bbb01, 6 frames of 424x240),
+   as a user runs it, and without --workers (one process, no Dask) beside
+   them: the median wall time over ``--runs`` runs each (taken in turn), the
+   ratio of --workers 2 to --workers 1, the peak resident memory of the
+   largest process (the command or one of its workers: ru_maxrss from
+   os.wait4), and whether every run wrote the same bytes (every .png, .exr
+   and strokes.lives file). These commands run before the pieces are timed,
+   since a child started by vfork counts this process's peak as its own.
+
+Usage: python bench/farm.py [--clip DIR] [--frames A-B] [--small-clip DIR] [--runs 3] [--seed 5]
+         [--skip-pieces] [--skip-speedup]
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import hashlib
+import os
+import pickle
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Dict, Mapping, Sequence
+
+from common import ROOT
+from core import tuning
+from core.cli import build_parser, params_from_args
+from core.farm.pieces import born, carried, motion_between, prepared, written
+from core.farm.sequence import MAX_BANDS, row_bands
+from core.files.frames import carry_vector_passes, find_frames
+from core.files.staging import output_folder
+from core.heap import reused_heap
+from core.params import SequenceSettings
+from core.sequence.frame_step import settled_rows
+from core.sequence.shot import OPTICAL_FLOW_MOTION, VECTOR_PASS_MOTION, Run, fingerprint
+from core.sequence.tasks import shown_frame
+
+FOOTAGE = Path("/work/footage")
+CLIP = FOOTAGE / "bbb1080"
+CLIP_FRAMES = "1-5"
+SMALL_CLIP = FOOTAGE / "bbb01"
+PIECES = ("prepared", "motion", "carry", "settle", "birth", "shown", "written", "commit")
+WORKER_PIECES = PIECES[:-1]
+CHAIN_PIECES = ("carry", "birth", "commit")     # in frame order; "settle" runs in bands side by side between them
+MACHINES = (1, 8, 32)
+THREADS_PER_MACHINE = 2
+PROJECTED_FRAMES = 250
+COMPARED_SUFFIXES = (".png", ".exr", ".lives")
+SPEEDUP_WORKERS = (1, 2, 0)     # --workers 1, --workers 2, and 0: no --workers (one process, no Dask)
+
+# The inputs each piece of frame t > 0 is sent (piece, result it needs), and the results sent to the client: the
+# volume per frame when every one crosses the network. Frame t-1's strokes travel with frame t's life from the
+# client; frame t-1's frame shown goes to frame t's writing.
+SENT = (("carry", "birth"), ("carry", "prepared"), ("carry", "motion"), ("client", "carry"), ("settle", "carry"),
+        ("birth", "birth"), ("birth", "prepared"), ("birth", "motion"), ("birth", "carry"), ("birth", "settle"),
+        ("client", "birth"), ("shown", "birth"), ("written", "birth"), ("written", "shown"), ("written", "shown"),
+        ("written", "motion"), ("client", "written"))
+CHAIN_SENT = (("carry", "birth"), ("carry", "prepared"), ("carry", "motion"), ("client", "carry"),
+              ("settle", "carry"), ("birth", "birth"), ("birth", "prepared"), ("birth", "motion"),
+              ("birth", "carry"), ("birth", "settle"), ("client", "birth"))
+
+
+@contextlib.contextmanager
+def worker_painter():
+    """The painter set up as on a Dask worker (``core.farm.plugin.PainterWorker``) for the body, restored after."""
+    saved = tuning.MAX_WORKERS, tuning.WRITERS
+    tuning.MAX_WORKERS, tuning.WRITERS = 1, 1
+    try:
+        with reused_heap():
+            yield
+    finally:
+        tuning.MAX_WORKERS, tuning.WRITERS = saved
+
+
+def pickled(value) -> tuple:
+    """(bytes of ``value`` pickled (protocol 5, the arrays' buffers in band), seconds to pickle and unpickle it)."""
+    clock = time.perf_counter()
+    data = pickle.dumps(value, protocol=5)
+    pickle.loads(data)
+    return len(data), time.perf_counter() - clock
+
+
+def prepared_parts(made) -> Dict[str, int]:
+    """Pickled bytes of a later frame's ``prepared`` result by part: the picture read, the analysis, the colour
+    sources at every stroke width (``frame_step.FrameAnalysis``)."""
+    return {"picture": pickled(made.frame.image)[0], "analysis": pickled(made.analysed.analysis)[0],
+            "colour sources": pickled(made.analysed.sources)[0]}
+
+
+def timed(fn, *args):
+    """(fn(*args), wall seconds)."""
+    clock = time.perf_counter()
+    result = fn(*args)
+    return result, time.perf_counter() - clock
+
+
+def cli_params(clip: str, seed: int):
+    """The Params and SequenceSettings `python -m core sequence CLIP -o OUT --seed SEED` paints with."""
+    args = build_parser().parse_args(["sequence", clip, "-o", "unused", "--seed", str(seed)])
+    return params_from_args(args), SequenceSettings(args.fade_frames, args.normal_map).validate()
+
+
+def measure_pieces(clip: str, frame_range: str, seed: int, work: Path, bands: int = MAX_BANDS) -> dict:
+    """Every frame's pieces of ``clip`` run in order as ``core.farm.sequence`` runs them, committed into ``work``.
+
+    Returns {"frames": Frames, "seconds": [{piece: s} per frame], "bytes": [{piece: pickled bytes} per frame],
+    "pickling": [{piece: s to pickle and unpickle its result} per frame], "life_stages": [{stage: s} per frame]
+    (the life's own "seconds", its analysis left out), "strokes": [alive per frame], "prepared_parts": [{part:
+    pickled bytes} per frame after the first], "longest_band": [s per frame after the first]}; the first frame
+    has no "motion", and its "carry" is the still painted (no "settle" or "birth"). "settle" is the ``bands``
+    bands' seconds together.
+    """
+    params, settings = cli_params(clip, seed)
+    frames = find_frames([clip], frame_range, params.max_megapixels)
+    vector_pass = carry_vector_passes(frames.paths)
+    motion_name = VECTOR_PASS_MOTION if vector_pass else OPTICAL_FLOW_MOTION
+    run = Run(frames, params, settings, motion_name, fingerprint(params, settings, motion_name))
+    shape = (frames.height, frames.width)
+    seconds, sizes, pickling, stages, strokes, parts, longest = [], [], [], [], [], [], []
+    with worker_painter(), output_folder(work) as folder:
+        report = run.new_report()
+        painted = shown_before = None
+        for index, (path, number) in enumerate(zip(frames.paths, frames.numbers, strict=True)):
+            took, made = {}, {}
+            made["prepared"], took["prepared"] = timed(prepared, path, params, vector_pass, index > 0)
+            motion = None
+            if index:
+                made["motion"], took["motion"] = timed(motion_between, frames.paths[index - 1], path, params,
+                                                       vector_pass)
+                motion = made["motion"]
+            previous = painted
+            painted, took["carry"] = timed(carried, previous, index, made["prepared"], motion, params,
+                                           settings.fade_frames)
+            made["carry"] = painted
+            if index:
+                rows = [timed(settled_rows, made["carry"], params, shape, band)
+                        for band in row_bands(shape[0], bands)]
+                made["settle"] = [part for part, _ in rows]
+                took["settle"] = sum(spent for _, spent in rows)
+                longest.append(max(spent for _, spent in rows))
+                painted, took["birth"] = timed(born, previous, index, made["prepared"], motion, params,
+                                               made["carry"], *made["settle"])
+                made["birth"] = painted
+            made["shown"], took["shown"] = timed(shown_frame, painted, params, shape)
+            made["written"], took["written"] = timed(
+                written, folder.folder, number, painted, made["shown"], path, shown_before,
+                frames.paths[index - 1] if index else None, motion, params, settings.normal_map)
+            _, took["commit"] = timed(run.commit, folder, index, painted, made["written"], report)
+            shown_before = made["shown"]
+            seconds.append(took)
+            travelled = {name: pickled(value) for name, value in made.items()}
+            sizes.append({name: size for name, (size, _) in travelled.items()})
+            pickling.append({name: spent for name, (_, spent) in travelled.items()})
+            if index:
+                parts.append(prepared_parts(made["prepared"]))
+            stages.append({k: v for k, v in painted.seconds.items() if k != "analysis"})
+            strokes.append(len(painted.living))
+            print(f"frame {number}: " + ", ".join(f"{k} {v:.2f} s" for k, v in took.items()), file=sys.stderr)
+    return {"frames": frames, "seconds": seconds, "bytes": sizes, "pickling": pickling, "life_stages": stages,
+            "strokes": strokes, "prepared_parts": parts, "longest_band": longest, "bands": bands}
+
+
+def medians(rows: Sequence[Mapping[str, float]]) -> Dict[str, float]:
+    """{name: median over ``rows`` of the rows' values of that name} for every name any row has."""
+    names = [k for row in rows for k in row]
+    return {name: statistics.median(row[name] for row in rows if name in row) for name in dict.fromkeys(names)}
+
+
+def sequential_share(later: Mapping[str, float]) -> float:
+    """(carry + birth + commit) / (every piece, commit included) of a frame after the first (seconds per
+    piece)."""
+    return sum(later[p] for p in CHAIN_PIECES) / sum(later[p] for p in PIECES)
+
+
+def settling(later: Mapping[str, float], threads: int) -> float:
+    """Seconds the judging canvas's bands take on the chain with ``threads`` worker threads: the longest band
+    (``later["longest_band"]``), or all bands (``later["settle"]``) shared among min(threads, bands)."""
+    return max(later["longest_band"], later["settle"] / min(threads, later["bands"]))
+
+
+def sent_bytes(sizes: Mapping[str, float], sent=SENT) -> float:
+    """Bytes that cross the network per frame after the first when every transfer in ``sent`` does
+    ((receiver, piece whose result it receives) pairs), from the pieces' pickled ``sizes``."""
+    return float(sum(sizes[piece] for _, piece in sent))
+
+
+def projection(first: Mapping[str, float], later: Mapping[str, float], frames: int, threads: int,
+               transfer: float = 0.0, chain_transfer: float = 0.0) -> dict:
+    """Seconds to paint ``frames`` frames on ``threads`` single-threaded workers, from pieces' seconds.
+
+    first: the first frame's seconds per piece (no "motion"; "carry" is the still); later: a later frame's, with
+    "longest_band" and "bands" (``settling``).
+    transfer: seconds per later frame its pieces spend receiving their inputs; chain_transfer: of those, the
+    seconds on the life chain (the strokes to and from the client, the life's inputs).
+    Returns {"chain", "work", "fill", "drain", "total"}: chain = the first frame's life + (frames - 1) x (carry +
+    settling + birth + commit + chain_transfer); work = every worker piece of every frame (+ transfers) / threads; fill = the first
+    frame's reading and analysis, before the chain starts; drain = laying and writing the last frame;
+    total = max(chain, work) + fill + drain.
+    """
+    later_work = sum(later[p] for p in WORKER_PIECES) + transfer
+    chain = first["carry"] + (frames - 1) * (sum(later[p] for p in CHAIN_PIECES) + settling(later, threads)
+                                             + chain_transfer)
+    work = (sum(first.get(p, 0.0) for p in WORKER_PIECES) + (frames - 1) * later_work) / threads
+    fill = first["prepared"]
+    drain = later["shown"] + later["written"]
+    return {"chain": chain, "work": work, "fill": fill, "drain": drain, "total": max(chain, work) + fill + drain}
+
+
+def output_digests(folder: Path) -> Dict[str, str]:
+    """{file name: SHA-256} of the painted files in ``folder``: every .png, .exr and strokes.lives."""
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.iterdir()) if p.is_file() and p.suffix in COMPARED_SUFFIXES}
+
+
+def run_child(command: Sequence[str], what: str) -> tuple:
+    """Run ``command`` from the repository root, its output dropped: (wall seconds, peak resident MiB of the
+    largest of the child and the processes it waited for). SystemExit naming ``what`` when it fails."""
+    clock = time.perf_counter()
+    process = subprocess.Popen([str(c) for c in command], cwd=ROOT, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True)
+    err = process.stderr.read()
+    _, status, usage = os.wait4(process.pid, 0)
+    seconds = time.perf_counter() - clock
+    code = os.waitstatus_to_exitcode(status)
+    process.returncode = code
+    if code != 0:
+        last = err.strip().splitlines()[-1] if err.strip() else "no message"
+        raise SystemExit(f"{what} failed with exit code {code}: {last}")
+    return seconds, usage.ru_maxrss / 1024.0
+
+
+def measure_speedup(clip: str, seed: int, runs: int, work: Path) -> dict:
+    """`core sequence` on ``clip`` with --workers 1, --workers 2 and in one process (no --workers), ``runs`` times
+    each in turn, each into a new folder.
+
+    Returns {"runs": {workers (0: one process): {"walls": [s], "peaks": [MiB]}}, "same": whether every run's
+    painted files are the bytes of the first run's, "files": how many files each run painted}.
+    """
+    results = {n: {"walls": [], "peaks": []} for n in SPEEDUP_WORKERS}
+    reference, same = None, True
+    for r in range(runs):
+        for n in SPEEDUP_WORKERS:
+            out = work / f"workers{n}_run{r}"
+            farm = ["--workers", n] if n else []
+            command = [sys.executable, "-m", "core", "sequence", clip, "-o", out, "--seed", seed, "-q", *farm]
+            wall, peak = run_child(command, f"core sequence {' '.join(map(str, farm))}")
+            results[n]["walls"].append(wall)
+            results[n]["peaks"].append(peak)
+            digests = output_digests(out)
+            reference = reference or digests
+            same = same and bool(digests) and digests == reference
+            print(f"{workers_name(n)} run {r + 1}: {wall:.2f} s", file=sys.stderr)
+    return {"runs": results, "same": same, "files": len(reference or {})}
+
+
+def workers_name(n: int) -> str:
+    """"--workers 2", or "one process" for 0 (no --workers)."""
+    return f"--workers {n}" if n else "one process"
+
+
+def megabytes(value: float) -> str:
+    """Bytes as MB (10^6), 3 significant figures."""
+    return f"{value / 1e6:.3g}"
+
+
+def print_pieces(measured: dict) -> tuple:
+    """The per-piece table; returns (the first frame's seconds, the later frames' medians, their pickled bytes)."""
+    frames, seconds, sizes = measured["frames"], measured["seconds"], measured["bytes"]
+    first, later = seconds[0], medians(seconds[1:])
+    later_bytes, later_pickling = medians(sizes[1:]), medians(measured["pickling"][1:])
+    spread = {p: (min(s[p] for s in seconds[1:]), max(s[p] for s in seconds[1:])) for p in PIECES}
+    longest = statistics.median(measured["longest_band"])
+    n = len(frames.paths)
+    print(f"clip {frames.paths[0].parent}: frames {frames.numbers[0]}-{frames.numbers[-1]} ({n}), "
+          f"{frames.width}x{frames.height} ({frames.width * frames.height / 1e6:.2f} MP); painter on one thread "
+          f"as on a Dask worker; strokes alive: first {measured['strokes'][0]}, later median "
+          f"{statistics.median(measured['strokes'][1:]):.0f}")
+    print(f"{'piece':<10} {'first frame s':>14} {'later frames s (median)':>24} {'min-max':>13} "
+          f"{'result pickled MB':>18} {'pickle+unpickle s':>18}")
+    for piece in PIECES:
+        low, high = spread[piece]
+        size, spent = ("-", "-") if piece == "commit" else (megabytes(later_bytes[piece]),
+                                                             f"{later_pickling[piece]:.2f}")
+        print(f"{piece:<10} {first.get(piece, float('nan')):>14.2f} {later[piece]:>24.2f} "
+              f"{f'{low:.2f}-{high:.2f}':>13} {size:>18} {spent:>18}")
+    print(f"{'all':<10} {sum(first.values()):>14.2f} {sum(later[p] for p in PIECES):>24.2f}")
+    print(f"settle: {measured['bands']} bands of rows, the longest {longest:.2f} s (median)")
+    print("prepared's result pickled, MB by part (median): "
+          + ", ".join(f"{k} {megabytes(v)}" for k, v in medians(measured["prepared_parts"]).items()))
+    stages = medians(measured["life_stages"][1:])
+    print("life of a later frame, its own stages (median s): "
+          + ", ".join(f"{k} {v:.2f}" for k, v in stages.items()))
+    print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} "
+          f"MiB")
+    return first, dict(later, longest_band=longest, bands=measured["bands"]), later_bytes
+
+
+def print_projection(first, later, later_bytes, frames: int, gbps: float) -> None:
+    """The projection table for 1, 8 and 32 machines, without and with the network."""
+    volume, chain_volume = sent_bytes(later_bytes), sent_bytes(later_bytes, CHAIN_SENT)
+    rate = gbps * 1e9
+    print(f"transfer per later frame if every piece's inputs (and the results the client gathers) crossed the "
+          f"network: {megabytes(volume)} MB ({megabytes(chain_volume)} MB of it on the life chain); at {gbps:g} GB/s "
+          f"{volume / rate:.2f} s of transfer per frame, {chain_volume / rate:.2f} s of it on the chain")
+    print(f"PROJECTION from the measured task times (not a run on a cluster): {frames} frames of this clip's "
+          f"size; each machine {THREADS_PER_MACHINE} single-threaded workers (like this one); "
+          f"total = max(chain, work / threads) + fill + drain")
+    print(f"{'machines':>8} {'threads':>7} {'chain s':>9} {'work/threads s':>15} {'fill s':>7} {'drain s':>8} "
+          f"{'total s':>9} {'s/frame':>8} {'x 1 machine':>11} {'x 1 thread':>10} {'total s at ' + f'{gbps:g} GB/s':>18}")
+    alone = projection(first, later, frames, 1)["work"]
+    one = None
+    for machines in MACHINES:
+        threads = machines * THREADS_PER_MACHINE
+        p = projection(first, later, frames, threads)
+        net = projection(first, later, frames, threads, volume / rate, chain_volume / rate)
+        one = one or p["total"]
+        print(f"{machines:>8} {threads:>7} {p['chain']:>9.0f} {p['work']:>15.0f} {p['fill']:>7.1f} "
+              f"{p['drain']:>8.1f} {p['total']:>9.0f} {p['total'] / frames:>8.2f} {one / p['total']:>11.1f} "
+              f"{alone / p['total']:>10.1f} "
+              f"{net['total']:>18.0f}")
+    print(f"one thread (every piece in turn, no commit): {alone:.0f} s; the chain allows at most "
+          f"{alone / projection(first, later, frames, 10**6)['total']:.1f} times that speed on any cluster")
+
+
+def print_speedup(measured: dict, clip: str, runs: int) -> None:
+    """The --workers 1 and 2 table, the ratio and whether the bytes are the same."""
+    frames = find_frames([clip])
+    print(f"`core sequence {clip} --seed 5 --workers N`, {len(frames.paths)} frames {frames.width}x{frames.height} "
+          f"({frames.width * frames.height / 1e6:.2f} MP), wall time of the whole command, median of {runs}")
+    print(f"{'run':<36} {'median s':>9} {'min-max s':>13} {'peak MiB (largest process)':>27}")
+    walls = {}
+    for n, m in measured["runs"].items():
+        walls[n] = statistics.median(m["walls"])
+        spread = f"{min(m['walls']):.2f}-{max(m['walls']):.2f}"
+        name = workers_name(n) + ("" if n else " (no --workers, no Dask)")
+        print(f"{name:<36} {walls[n]:>9.2f} {spread:>13} {max(m['peaks']):>27.0f}")
+    print(f"--workers 2 / --workers 1: {walls[2] / walls[1]:.2f} (target <= 0.75)")
+    print(f"same bytes: {'yes' if measured['same'] else 'no'} ({measured['files']} files of every run compared)")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--clip", default=str(CLIP), help=f"frames whose pieces are timed (default {CLIP})")
+    parser.add_argument("--frames", default=None, metavar="A-B",
+                        help=f"frames of --clip (default {CLIP_FRAMES} for the default clip, else all)")
+    parser.add_argument("--small-clip", default=str(SMALL_CLIP),
+                        help=f"clip painted with --workers 1 and 2 (default {SMALL_CLIP})")
+    parser.add_argument("--runs", type=int, default=3, help="runs of each --workers N (default 3)")
+    parser.add_argument("--seed", type=int, default=5)
+    parser.add_argument("--projected-frames", type=int, default=PROJECTED_FRAMES, help="frames of the projection")
+    parser.add_argument("--network-gbps", type=float, default=1.0, help="GB/s of the projection's network")
+    parser.add_argument("--skip-pieces", action="store_true", help="measure the speed-up only")
+    parser.add_argument("--skip-speedup", action="store_true", help="measure the pieces only")
+    args = parser.parse_args()
+    if args.runs < 1 or args.projected_frames < 2:
+        parser.error("--runs must be at least 1 and --projected-frames at least 2")
+    frame_range = args.frames or (CLIP_FRAMES if Path(args.clip) == CLIP else None)
+    print(f"{os.cpu_count()} cores", file=sys.stderr)
+    with tempfile.TemporaryDirectory() as tmp:
+        # The commands run first: a child started by vfork keeps this process's peak as its own ru_maxrss.
+        speedup = None if args.skip_speedup else measure_speedup(args.small_clip, args.seed, args.runs,
+                                                                  Path(tmp) / "speedup")
+        if not args.skip_pieces:
+            measured = measure_pieces(args.clip, frame_range, args.seed, Path(tmp) / "pieces")
+            if len(measured["seconds"]) < 2:
+                parser.error("the pieces need at least 2 frames")
+            first, later, later_bytes = print_pieces(measured)
+            print(f"sequential share of a later frame: (carry + birth + commit) / all = "
+                  f"({' + '.join(f'{later[p]:.2f}' for p in CHAIN_PIECES)}) / "
+                  f"{sum(later[p] for p in PIECES):.2f} = {sequential_share(later):.2f} (the design asks <= 0.25)")
+            print_projection(first, later, later_bytes, args.projected_frames, args.network_gbps)
+        if speedup is not None:
+            print_speedup(speedup, args.small_clip, args.runs)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,59 @@
+"""The figures bench/farm.py works out from piece times: the sequential share, the transfer and the projection."""
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+from farm import CHAIN_SENT, output_digests, projection, sent_bytes, sequential_share, settling  # noqa: E402
+
+FIRST = {"prepared": 0.5, "carry": 10.0, "shown": 3.0, "written": 1.0, "commit": 0.2}
+LATER = {"prepared": 2.0, "motion": 2.0, "carry": 0.5, "settle": 4.0, "birth": 1.5, "shown": 3.0, "written": 2.0,
+         "commit": 1.0, "longest_band": 0.6, "bands": 8}
+SIZES = {"prepared": 200.0, "motion": 40.0, "carry": 20.0, "settle": 30.0, "birth": 50.0, "shown": 60.0,
+         "written": 1.0}
+
+
+def test_sequential_share_is_carry_birth_and_commit_over_every_piece():
+    assert sequential_share(LATER) == pytest.approx(3.0 / 16.0)
+
+
+def test_settling_on_few_threads_shares_the_bands_and_on_many_is_the_longest_band():
+    assert settling(LATER, 2) == pytest.approx(2.0)
+    assert settling(LATER, 64) == pytest.approx(0.6)
+
+
+def test_sent_bytes_count_each_transfer_of_a_frame():
+    # the analysis to the carry and the births; the motion to them and the writing; the carried strokes to the
+    # client, the bands and the births; the bands to the births; the strokes to the client, from it to the next
+    # carry and births, to laying and to writing; the frame shown to this frame's writing and the next's
+    assert sent_bytes(SIZES) == pytest.approx(2 * 200 + 3 * 40 + 3 * 20 + 30 + 5 * 50 + 2 * 60 + 1)
+    assert sent_bytes(SIZES, CHAIN_SENT) == pytest.approx(2 * 200 + 2 * 40 + 3 * 20 + 30 + 3 * 50)
+
+
+def test_projection_on_few_threads_is_bound_by_the_work():
+    p = projection(FIRST, LATER, frames=11, threads=2)
+    assert p["chain"] == pytest.approx(10.0 + 10 * (3.0 + 2.0))
+    assert p["work"] == pytest.approx((14.5 + 10 * 15.0) / 2)
+    assert p["fill"] == 0.5 and p["drain"] == 5.0
+    assert p["total"] == pytest.approx(82.25 + 5.5)
+
+
+def test_projection_on_many_threads_is_bound_by_the_chain_and_transfers_lengthen_it():
+    p = projection(FIRST, LATER, frames=11, threads=64)
+    assert p["total"] == pytest.approx(10.0 + 10 * 3.6 + 5.5)
+    slow = projection(FIRST, LATER, frames=11, threads=64, transfer=1.0, chain_transfer=0.5)
+    assert slow["chain"] == pytest.approx(46.0 + 10 * 0.5)
+    assert slow["work"] == pytest.approx((14.5 + 10 * 16.0) / 64)
+
+
+def test_output_digests_take_the_painted_files_only_and_see_a_changed_byte(tmp_path):
+    for name in ("painting_0001.png", "height_0001.exr", "strokes.lives", "report.json"):
+        (tmp_path / name).write_bytes(b"abc")
+    digests = output_digests(tmp_path)
+    assert sorted(digests) == ["height_0001.exr", "painting_0001.png", "strokes.lives"]
+    (tmp_path / "report.json").write_bytes(b"abd")
+    assert output_digests(tmp_path) == digests
+    (tmp_path / "strokes.lives").write_bytes(b"abd")
+    assert output_digests(tmp_path) != digests
