@@ -6,7 +6,8 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    process exactly as the cluster driver (``core.farm.sequence``) calls them:
    ``prepared`` (reading, analysis), ``motion_between``, the strokes' life in
    its three steps (``carried``; ``settled_rows``, the judging canvas laid in
-   ``--bands`` bands of rows, timed one by one; ``born``), ``shown_frame``
+   bands of rows, as the driver cuts it for 1, 2 and 8 worker threads, each
+   band timed; ``born``), ``shown_frame``
    (laying the frame shown), ``written`` (the maps into a staging folder, with
    the measures), then ``shot.Run.commit``
    itself (the lives appended, the state, report.json and the staging folder
@@ -26,8 +27,8 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    machines of 2 single-threaded workers each, from the measured piece
    times: max(chain, work / threads) + fill + drain, where chain = the
    first frame's life + 249 x (carry + settling + birth + commit), settling
-   on T threads being max(the longest band, all bands / min(T, bands)),
-   work = every piece of every
+   on T threads being the longest of the min(T, 8) bands the driver cuts
+   (``core.farm.sequence.MAX_BANDS``), work = every piece of every
    frame on the workers, fill = the first frame's reading (before the chain
    can start), drain = laying and writing the last frame. Then the same with
    every piece's inputs (and the strokes and the maps' report the client
@@ -142,15 +143,20 @@ def cli_params(clip: str, seed: int):
     return params_from_args(args), SequenceSettings(args.fade_frames, args.normal_map).validate()
 
 
-def measure_pieces(clip: str, frame_range: str, seed: int, work: Path, bands: int = MAX_BANDS) -> dict:
+BAND_COUNTS = (1, THREADS_PER_MACHINE, MAX_BANDS)
+"""The bands the judging canvas is cut into on one thread, one machine and eight or more."""
+
+
+def measure_pieces(clip: str, frame_range: str, seed: int, work: Path) -> dict:
     """Every frame's pieces of ``clip`` run in order as ``core.farm.sequence`` runs them, committed into ``work``.
 
     Returns {"frames": Frames, "seconds": [{piece: s} per frame], "bytes": [{piece: pickled bytes} per frame],
     "pickling": [{piece: s to pickle and unpickle its result} per frame], "life_stages": [{stage: s} per frame]
     (the life's own "seconds", its analysis left out), "strokes": [alive per frame], "prepared_parts": [{part:
-    pickled bytes} per frame after the first], "longest_band": [s per frame after the first]}; the first frame
-    has no "motion", and its "carry" is the still painted (no "settle" or "birth"). "settle" is the ``bands``
-    bands' seconds together.
+    pickled bytes} per frame after the first], "bands": [{bands: (s of all, s of the longest)} per frame after
+    the first, for each of BAND_COUNTS]}; the first frame has no "motion", and its "carry" is the still painted
+    (no "settle" or "birth"). "settle" is the seconds of the THREADS_PER_MACHINE bands together, the cut the
+    driver makes on one machine like this one.
     """
     params, settings = cli_params(clip, seed)
     frames = find_frames([clip], frame_range, params.max_megapixels)
@@ -158,7 +164,7 @@ def measure_pieces(clip: str, frame_range: str, seed: int, work: Path, bands: in
     motion_name = VECTOR_PASS_MOTION if vector_pass else OPTICAL_FLOW_MOTION
     run = Run(frames, params, settings, motion_name, fingerprint(params, settings, motion_name))
     shape = (frames.height, frames.width)
-    seconds, sizes, pickling, stages, strokes, parts, longest = [], [], [], [], [], [], []
+    seconds, sizes, pickling, stages, strokes, parts, banded = [], [], [], [], [], [], []
     with worker_painter(), output_folder(work) as folder:
         report = run.new_report()
         painted = shown_before = None
@@ -175,11 +181,15 @@ def measure_pieces(clip: str, frame_range: str, seed: int, work: Path, bands: in
                                            settings.fade_frames)
             made["carry"] = painted
             if index:
-                rows = [timed(settled_rows, made["carry"], params, shape, band)
-                        for band in row_bands(shape[0], bands)]
-                made["settle"] = [part for part, _ in rows]
-                took["settle"] = sum(spent for _, spent in rows)
-                longest.append(max(spent for _, spent in rows))
+                cuts = {}
+                for count in BAND_COUNTS:
+                    rows = [timed(settled_rows, made["carry"], params, shape, band)
+                            for band in row_bands(shape[0], count)]
+                    cuts[count] = (sum(spent for _, spent in rows), max(spent for _, spent in rows))
+                    if count == THREADS_PER_MACHINE:
+                        made["settle"] = [part for part, _ in rows]
+                took["settle"] = cuts[THREADS_PER_MACHINE][0]
+                banded.append(cuts)
                 painted, took["birth"] = timed(born, previous, index, made["prepared"], motion, params,
                                                made["carry"], *made["settle"])
                 made["birth"] = painted
@@ -199,7 +209,7 @@ def measure_pieces(clip: str, frame_range: str, seed: int, work: Path, bands: in
             strokes.append(len(painted.living))
             print(f"frame {number}: " + ", ".join(f"{k} {v:.2f} s" for k, v in took.items()), file=sys.stderr)
     return {"frames": frames, "seconds": seconds, "bytes": sizes, "pickling": pickling, "life_stages": stages,
-            "strokes": strokes, "prepared_parts": parts, "longest_band": longest, "bands": bands}
+            "strokes": strokes, "prepared_parts": parts, "bands": banded}
 
 
 def medians(rows: Sequence[Mapping[str, float]]) -> Dict[str, float]:
@@ -214,10 +224,21 @@ def sequential_share(later: Mapping[str, float]) -> float:
     return sum(later[p] for p in CHAIN_PIECES) / sum(later[p] for p in PIECES)
 
 
-def settling(later: Mapping[str, float], threads: int) -> float:
-    """Seconds the judging canvas's bands take on the chain with ``threads`` worker threads: the longest band
-    (``later["longest_band"]``), or all bands (``later["settle"]``) shared among min(threads, bands)."""
-    return max(later["longest_band"], later["settle"] / min(threads, later["bands"]))
+def band_count(threads: int, measured) -> int:
+    """The bands the driver cuts the judging canvas into on ``threads`` worker threads (min(threads, 8)), or the
+    largest of the ``measured`` counts below that."""
+    return max(count for count in measured if count <= min(threads, MAX_BANDS))
+
+
+def settling(later: Mapping, threads: int) -> float:
+    """Seconds the judging canvas takes on the chain with ``threads`` worker threads: its longest band
+    (``later["bands"]``: {bands: (s of all, s of the longest)})."""
+    return later["bands"][band_count(threads, later["bands"])][1]
+
+
+def settle_work(later: Mapping, threads: int) -> float:
+    """Seconds of all the judging canvas's bands on ``threads`` worker threads."""
+    return later["bands"][band_count(threads, later["bands"])][0]
 
 
 def sent_bytes(sizes: Mapping[str, float], sent=SENT) -> float:
@@ -231,7 +252,7 @@ def projection(first: Mapping[str, float], later: Mapping[str, float], frames: i
     """Seconds to paint ``frames`` frames on ``threads`` single-threaded workers, from pieces' seconds.
 
     first: the first frame's seconds per piece (no "motion"; "carry" is the still); later: a later frame's, with
-    "longest_band" and "bands" (``settling``).
+    "bands" (``settling``).
     transfer: seconds per later frame its pieces spend receiving their inputs; chain_transfer: of those, the
     seconds on the life chain (the strokes to and from the client, the life's inputs).
     Returns {"chain", "work", "fill", "drain", "total"}: chain = the first frame's life + (frames - 1) x (carry +
@@ -239,7 +260,7 @@ def projection(first: Mapping[str, float], later: Mapping[str, float], frames: i
     frame's reading and analysis, before the chain starts; drain = laying and writing the last frame;
     total = max(chain, work) + fill + drain.
     """
-    later_work = sum(later[p] for p in WORKER_PIECES) + transfer
+    later_work = sum(later[p] for p in WORKER_PIECES if p != "settle") + settle_work(later, threads) + transfer
     chain = first["carry"] + (frames - 1) * (sum(later[p] for p in CHAIN_PIECES) + settling(later, threads)
                                              + chain_transfer)
     work = (sum(first.get(p, 0.0) for p in WORKER_PIECES) + (frames - 1) * later_work) / threads
@@ -311,7 +332,8 @@ def print_pieces(measured: dict) -> tuple:
     first, later = seconds[0], medians(seconds[1:])
     later_bytes, later_pickling = medians(sizes[1:]), medians(measured["pickling"][1:])
     spread = {p: (min(s[p] for s in seconds[1:]), max(s[p] for s in seconds[1:])) for p in PIECES}
-    longest = statistics.median(measured["longest_band"])
+    bands = {count: tuple(statistics.median(cuts[count][k] for cuts in measured["bands"]) for k in (0, 1))
+             for count in BAND_COUNTS}
     n = len(frames.paths)
     print(f"clip {frames.paths[0].parent}: frames {frames.numbers[0]}-{frames.numbers[-1]} ({n}), "
           f"{frames.width}x{frames.height} ({frames.width * frames.height / 1e6:.2f} MP); painter on one thread "
@@ -326,7 +348,9 @@ def print_pieces(measured: dict) -> tuple:
         print(f"{piece:<10} {first.get(piece, float('nan')):>14.2f} {later[piece]:>24.2f} "
               f"{f'{low:.2f}-{high:.2f}':>13} {size:>18} {spent:>18}")
     print(f"{'all':<10} {sum(first.values()):>14.2f} {sum(later[p] for p in PIECES):>24.2f}")
-    print(f"settle: {measured['bands']} bands of rows, the longest {longest:.2f} s (median)")
+    print("settle, the judging canvas in bands of rows (median s, all bands / the longest): "
+          + ", ".join(f"{count} band{'s' if count > 1 else ''} {all_:.2f} / {longest:.2f}"
+                      for count, (all_, longest) in bands.items()))
     print("prepared's result pickled, MB by part (median): "
           + ", ".join(f"{k} {megabytes(v)}" for k, v in medians(measured["prepared_parts"]).items()))
     stages = medians(measured["life_stages"][1:])
@@ -334,7 +358,7 @@ def print_pieces(measured: dict) -> tuple:
           + ", ".join(f"{k} {v:.2f}" for k, v in stages.items()))
     print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} "
           f"MiB")
-    return first, dict(later, longest_band=longest, bands=measured["bands"]), later_bytes
+    return first, dict(later, bands=bands), later_bytes
 
 
 def print_projection(first, later, later_bytes, frames: int, gbps: float) -> None:

@@ -10,7 +10,7 @@ from farm import CHAIN_SENT, output_digests, projection, sent_bytes, sequential_
 
 FIRST = {"prepared": 0.5, "carry": 10.0, "shown": 3.0, "written": 1.0, "commit": 0.2}
 LATER = {"prepared": 2.0, "motion": 2.0, "carry": 0.5, "settle": 4.0, "birth": 1.5, "shown": 3.0, "written": 2.0,
-         "commit": 1.0, "longest_band": 0.6, "bands": 8}
+         "commit": 1.0, "bands": {1: (3.0, 3.0), 2: (4.0, 2.0), 8: (6.0, 0.6)}}
 SIZES = {"prepared": 200.0, "motion": 40.0, "carry": 20.0, "settle": 30.0, "birth": 50.0, "shown": 60.0,
          "written": 1.0}
 
@@ -19,9 +19,8 @@ def test_sequential_share_is_carry_birth_and_commit_over_every_piece():
     assert sequential_share(LATER) == pytest.approx(3.0 / 16.0)
 
 
-def test_settling_on_few_threads_shares_the_bands_and_on_many_is_the_longest_band():
-    assert settling(LATER, 2) == pytest.approx(2.0)
-    assert settling(LATER, 64) == pytest.approx(0.6)
+def test_settling_is_the_longest_of_the_bands_the_driver_cuts_for_the_threads():
+    assert [settling(LATER, threads) for threads in (1, 2, 3, 7, 8, 64)] == [3.0, 2.0, 2.0, 2.0, 0.6, 0.6]
 
 
 def test_sent_bytes_count_each_transfer_of_a_frame():
@@ -45,7 +44,7 @@ def test_projection_on_many_threads_is_bound_by_the_chain_and_transfers_lengthen
     assert p["total"] == pytest.approx(10.0 + 10 * 3.6 + 5.5)
     slow = projection(FIRST, LATER, frames=11, threads=64, transfer=1.0, chain_transfer=0.5)
     assert slow["chain"] == pytest.approx(46.0 + 10 * 0.5)
-    assert slow["work"] == pytest.approx((14.5 + 10 * 16.0) / 64)
+    assert slow["work"] == pytest.approx((14.5 + 10 * 18.0) / 64)
 
 
 def test_output_digests_take_the_painted_files_only_and_see_a_changed_byte(tmp_path):
