@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import math
+import os
 import statistics
+import subprocess
 import sys
 import time
 import tracemalloc
 from pathlib import Path
-from typing import Callable, Dict, List
+from typing import Callable, Dict, List, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -50,3 +52,23 @@ def peak_mib(fn: Callable[[], object]) -> float:
     finally:
         tracemalloc.stop()
     return peak / 2**20
+
+
+def run_child(command: Sequence[str], what: str, quiet: bool = False) -> tuple:
+    """Run ``command`` from the repository root: (wall seconds, peak resident MiB of the child).
+
+    ``quiet`` drops what it prints on stdout. SystemExit with one sentence naming ``what`` and the last line
+    the child wrote on stderr when it fails.
+    """
+    start = time.perf_counter()
+    child = subprocess.Popen([str(c) for c in command], cwd=ROOT, stdout=subprocess.DEVNULL if quiet else None,
+                             stderr=subprocess.PIPE, text=True)
+    err = child.stderr.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.perf_counter() - start
+    code = os.waitstatus_to_exitcode(status)
+    child.returncode = code
+    if code != 0:
+        last = err.strip().splitlines()[-1] if err.strip() else "no message"
+        raise SystemExit(f"{what} failed with exit code {code}: {last}")
+    return seconds, usage.ru_maxrss / 1024.0  # KiB on Linux

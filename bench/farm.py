@@ -58,14 +58,13 @@ import os
 import pickle
 import resource
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 from typing import Dict, Mapping, Sequence
 
-from common import ROOT
+from common import run_child
 from core import tuning
 from core.cli import build_parser, params_from_args
 from core.farm.pieces import born, carried, motion_between, prepared, written
@@ -275,23 +274,6 @@ def output_digests(folder: Path) -> Dict[str, str]:
             for p in sorted(folder.iterdir()) if p.is_file() and p.suffix in COMPARED_SUFFIXES}
 
 
-def run_child(command: Sequence[str], what: str) -> tuple:
-    """Run ``command`` from the repository root, its output dropped: (wall seconds, peak resident MiB of the
-    largest of the child and the processes it waited for). SystemExit naming ``what`` when it fails."""
-    clock = time.perf_counter()
-    process = subprocess.Popen([str(c) for c in command], cwd=ROOT, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.PIPE, text=True)
-    err = process.stderr.read()
-    _, status, usage = os.wait4(process.pid, 0)
-    seconds = time.perf_counter() - clock
-    code = os.waitstatus_to_exitcode(status)
-    process.returncode = code
-    if code != 0:
-        last = err.strip().splitlines()[-1] if err.strip() else "no message"
-        raise SystemExit(f"{what} failed with exit code {code}: {last}")
-    return seconds, usage.ru_maxrss / 1024.0
-
-
 def measure_speedup(clip: str, seed: int, runs: int, work: Path) -> dict:
     """`core sequence` on ``clip`` with --workers 1, --workers 2 and in one process (no --workers), ``runs`` times
     each in turn, each into a new folder.
@@ -306,7 +288,7 @@ def measure_speedup(clip: str, seed: int, runs: int, work: Path) -> dict:
             out = work / f"workers{n}_run{r}"
             farm = ["--workers", n] if n else []
             command = [sys.executable, "-m", "core", "sequence", clip, "-o", out, "--seed", seed, "-q", *farm]
-            wall, peak = run_child(command, f"core sequence {' '.join(map(str, farm))}")
+            wall, peak = run_child(command, f"core sequence {' '.join(map(str, farm))}", quiet=True)
             results[n]["walls"].append(wall)
             results[n]["peaks"].append(peak)
             digests = output_digests(out)

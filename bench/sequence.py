@@ -74,13 +74,12 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from common import ROOT
+from common import ROOT, run_child
 from core.figures.gif import write_gif
 from core.figures.sheet import contact_sheet
 from core.files import reading, writing
@@ -98,26 +97,6 @@ LABEL_HEIGHT = 24
 ROWS = ("source", "alone", "sequence")
 PICTURE_FIGURES = ("speckle_share", "edge_fidelity", "chroma_err_smooth", "highlights_kept", "crack_share")
 STROKE_FIGURES = ("median_Lw_layers", "dabs", "width_contrast_area")
-
-
-def run_child(command: Sequence[str], what: str, quiet: bool = False) -> tuple:
-    """Run ``command`` from the repository root: (wall seconds, peak resident MiB of the child).
-
-    ``quiet`` drops what it prints on stdout. SystemExit with one sentence naming ``what`` and the last line
-    the child wrote on stderr when it fails.
-    """
-    start = time.perf_counter()
-    child = subprocess.Popen([str(c) for c in command], cwd=ROOT, stdout=subprocess.DEVNULL if quiet else None,
-                             stderr=subprocess.PIPE, text=True)
-    err = child.stderr.read()
-    _, status, usage = os.wait4(child.pid, 0)
-    seconds = time.perf_counter() - start
-    code = os.waitstatus_to_exitcode(status)
-    child.returncode = code
-    if code != 0:
-        last = err.strip().splitlines()[-1] if err.strip() else "no message"
-        raise SystemExit(f"{what} failed with exit code {code}: {last}")
-    return seconds, usage.ru_maxrss / 1024.0  # KiB on Linux
 
 
 def sequence_missing() -> Optional[str]:
