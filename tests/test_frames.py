@@ -214,6 +214,13 @@ def test_a_missing_listed_frame_is_refused_by_name(tmp_path, monkeypatch):
     assert refused(InputError, tmp_path, monkeypatch, [paths[0], missing]) == f"The frame file {missing} does not exist."
 
 
+def test_a_missing_listed_frame_is_named_before_the_frames_option_selects(tmp_path, monkeypatch):
+    # a path named as if it were frame 1080, and a range that its number lies outside of
+    missing = tmp_path / "shot1080"
+    assert (refused(InputError, tmp_path, monkeypatch, [missing], "1-5")
+            == f"The frame file {missing} does not exist.")
+
+
 def test_no_frames_is_refused_naming_the_folder_or_pattern(tmp_path, monkeypatch):
     empty = tmp_path / "empty"
     empty.mkdir()

@@ -74,7 +74,9 @@ def frame_files(inputs: Sequence[str]) -> Tuple[List[pathlib.Path], List[int], b
     the last run of digits in its file name's stem (a pattern's ``#``
     digits) when every frame has one, else its place 1, 2, 3, ... A folder's
     and a pattern's frames are ordered by number, or by name when numbered
-    by place. InputError when a folder or pattern gives no frame.
+    by place. InputError when a folder or pattern gives no frame, or a
+    listed file is missing or cannot be read (before ``--frames`` selects
+    among them by their numbers).
     """
     if not inputs:
         raise InputError("No frames were given: give a folder, a pattern such as frame_####.png, or image files.")
@@ -84,6 +86,8 @@ def frame_files(inputs: Sequence[str]) -> Tuple[List[pathlib.Path], List[int], b
         found = pattern_files(inputs[0])
         return [path for path, _ in found], [number for _, number in found], True
     paths = [pathlib.Path(text) for text in inputs]
+    for path in paths:
+        reading.check_input_path(path, role="frame")
     return _numbered(paths)
 
 

@@ -41,7 +41,7 @@ def _noun(role: str) -> str:
     return "image" if role == "input" else role
 
 
-def _check_input_path(path: pathlib.Path, role: str = "input") -> None:
+def check_input_path(path: pathlib.Path, role: str = "input") -> None:
     """Raise InputError when ``path`` is missing, a dangling symbolic link, a folder, empty or not readable.
 
     ``role`` names the file in the sentence: 'The input file ...', 'The mask file ...'.
@@ -98,7 +98,7 @@ def _opened(path: pathlib.Path, max_megapixels: float, config=None, role: str = 
 
     A missing, empty, unreadable or too large file raises InputError naming it as ``role`` ('input', 'mask').
     """
-    _check_input_path(path, role)
+    check_input_path(path, role)
     oiio.geterror()  # drop any stale global error
     with quiet.captured() as printed:
         inp = oiio.ImageInput.open(str(path), config) if config is not None else oiio.ImageInput.open(str(path))
