@@ -402,6 +402,11 @@ def main() -> None:
     args = parser.parse_args()
     if args.runs < 1 or args.projected_frames < 2:
         parser.error("--runs must be at least 1 and --projected-frames at least 2")
+    for clip, option, skipped in ((args.clip, "--clip", args.skip_pieces),
+                                  (args.small_clip, "--small-clip", args.skip_speedup)):
+        if not skipped and not Path(clip).exists():
+            parser.error(f"{option} {clip} does not exist: give footage, or render a clip with "
+                         f"`python sample_scenes/sequence_scene.py -o DIR --frames 6 --size 424x240 --png`")
     frame_range = args.frames or (CLIP_FRAMES if Path(args.clip) == CLIP else None)
     print(f"{os.cpu_count()} cores", file=sys.stderr)
     with tempfile.TemporaryDirectory() as tmp:

@@ -8,9 +8,12 @@ a moving object, occlusion and disocclusion. Each frame is written as a
 multilayer EXR (`frame_0001.exr`, ...): the Combined pass (scene-linear
 RGBA) and the Vector pass (Blender's motion to the previous and next frames,
 in pixels), with motion blur off so that Cycles writes the Vector pass.
+With ``--png`` the frames are 8-bit sRGB PNG (`frame_0001.png`, ...) and
+carry no Vector pass, as a camera's footage does, so that the painter finds
+their motion by optical flow.
 
 Usage (with the bpy module, or inside Blender):
-  python sample_scenes/sequence_scene.py -o OUTDIR [--frames 12] [--size 640x360] [--samples 16]
+  python sample_scenes/sequence_scene.py -o OUTDIR [--frames 12] [--size 640x360] [--samples 16] [--png]
   blender -b --python-exit-code 1 --python sample_scenes/sequence_scene.py -- -o OUTDIR [options]
 """
 
@@ -27,10 +30,12 @@ import bpy
 def arguments(argv: list) -> argparse.Namespace:
     """The options after Blender's own (after ``--`` when Blender runs the script)."""
     parser = argparse.ArgumentParser(prog="sequence_scene.py", description=__doc__.splitlines()[0])
-    parser.add_argument("-o", "--output", type=Path, required=True, help="folder for frame_####.exr")
+    parser.add_argument("-o", "--output", type=Path, required=True, help="folder for frame_####.exr (or .png)")
     parser.add_argument("--frames", type=int, default=12, help="frames to render, numbered from 1 (default 12)")
     parser.add_argument("--size", default="640x360", help="width x height in px (default 640x360)")
     parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (default 16)")
+    parser.add_argument("--png", action="store_true",
+                        help="8-bit sRGB PNG frames without the Vector pass (motion left to optical flow)")
     args = parser.parse_args(argv[argv.index("--") + 1:] if "--" in argv else argv[1:])
     try:
         args.width, args.height = (int(v) for v in args.size.lower().split("x"))
@@ -95,9 +100,10 @@ def build_scene(frames: int) -> bpy.types.Scene:
 
 
 def set_output(scene: bpy.types.Scene, width: int, height: int, samples: int, folder: Path,
-               denoise: bool = True) -> None:
+               denoise: bool = True, png: bool = False) -> None:
     """Cycles on the CPU at ``samples`` per pixel, the Vector pass on and motion blur off, frames of ``width`` x
-    ``height`` px written as multilayer EXR to ``folder``/frame_####.exr."""
+    ``height`` px written as multilayer EXR to ``folder``/frame_####.exr; with ``png``, as 8-bit sRGB
+    ``folder``/frame_####.png without the Vector pass."""
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.samples = samples
@@ -106,13 +112,20 @@ def set_output(scene: bpy.types.Scene, width: int, height: int, samples: int, fo
     scene.render.resolution_percentage = 100
     scene.render.use_motion_blur = False                  # Cycles writes the Vector pass only without it
     scene.view_settings.view_transform = "Standard"
-    bpy.context.view_layer.use_pass_vector = True
+    bpy.context.view_layer.use_pass_vector = not png
     settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):                   # Blender 5.x
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.exr_codec = "ZIP"
-    settings.color_depth = "32"
+    if png:
+        if hasattr(settings, "media_type"):               # Blender 5.x
+            settings.media_type = "IMAGE"
+        settings.file_format = "PNG"
+        settings.color_mode = "RGB"
+        settings.color_depth = "8"
+    else:
+        if hasattr(settings, "media_type"):
+            settings.media_type = "MULTI_LAYER_IMAGE"
+        settings.file_format = "OPEN_EXR_MULTILAYER"
+        settings.exr_codec = "ZIP"
+        settings.color_depth = "32"
     scene.render.filepath = str(Path(folder).resolve() / "frame_####")
 
 
@@ -120,9 +133,9 @@ def main(argv: list) -> int:
     args = arguments(argv)
     args.output.mkdir(parents=True, exist_ok=True)
     scene = build_scene(args.frames)
-    set_output(scene, args.width, args.height, args.samples, args.output)
+    set_output(scene, args.width, args.height, args.samples, args.output, png=args.png)
     bpy.ops.render.render(animation=True)
-    written = sorted(args.output.glob("frame_*.exr"))
+    written = sorted(args.output.glob("frame_*.png" if args.png else "frame_*.exr"))
     print(f"sequence_scene: {len(written)} frames in {args.output}")
     return 0 if len(written) >= args.frames else 1
 

@@ -1,10 +1,13 @@
 """A sequence frame's pieces as Dask tasks run them: each reads the frame files it needs from their paths.
 
-Reading a frame takes a few milliseconds to tens of milliseconds, far less
-than sending its picture from the worker that read it, so the pieces that
-need a picture read it themselves (``core.sequence.tasks.read_frame``) and
-only what is made (an analysis, a motion, the strokes, the frame shown)
-travels between workers.
+The pieces that need a picture read it themselves
+(``core.sequence.tasks.read_frame``), so only what is made (an analysis, a
+motion, the strokes, the frame shown) travels between workers, and no
+piece waits on the worker that read a frame. A frame is read five times
+(its preparing, the motion to it and from it, its writing and the next
+frame's): at 1920x1080 a PNG frame reads in about 35 ms, a multilayer EXR
+with its Vector pass in 0.2 to 0.4 s, against 25 MB (58 MB with the Vector
+pass) to send. None of these reads is on the strokes' life chain.
 """
 
 from __future__ import annotations
