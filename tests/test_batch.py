@@ -1,6 +1,7 @@
 """`core batch`: unrelated stills painted each into a folder named as the panel names it, in one process or on a
 local Dask cluster, the same bytes as each painted alone; a bad input refused before anything is painted."""
 
+import errno
 import json
 import subprocess
 import sys
@@ -75,6 +76,27 @@ def test_a_bad_input_is_refused_in_one_sentence_before_any_still_is_painted(tmp_
         paint_batch([str(inputs[0]), str(broken), str(inputs[2])], tmp_path / "out", PARAMS)
     assert str(broken) in str(refused.value)
     assert not (tmp_path / "out").exists()
+
+
+def unreadable(source, folder, params, normal_map=False):
+    """A still that fails for itself on its worker, as reading from a lost mount does."""
+    raise OSError(errno.EIO, "Input/output error", source)
+
+
+def test_a_still_that_fails_with_an_os_error_is_named_and_not_taken_for_a_lost_scheduler(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    from core.farm.batch import paint_stills
+    from core.farm.cluster import FarmError
+
+    source = photos(tmp_path / "in")[0]
+    (tmp_path / "out").mkdir()
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as \
+            local, distributed.Client(local) as client:
+        with pytest.raises(FarmError) as failed:
+            paint_stills(client, unreadable, [(source, tmp_path / "out" / "still_0_001")], tmp_path / "out",
+                         PARAMS, False)
+    assert str(failed.value) == (f"A Dask worker failed painting {source}: the device reported an input/output error "
+                                  f"({source}).")
 
 
 def farm(workers: int):

@@ -2,6 +2,8 @@
 same bytes as one process through lost workers, a lost scheduler and resumed runs; one sentence for what cannot
 be reached or seen."""
 
+import errno
+import re
 import signal
 import subprocess
 import sys
@@ -174,3 +176,30 @@ def test_without_a_farm_the_painter_imports_no_dask(tmp_path, footage):
                             cwd=Path(__file__).resolve().parents[1])
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip().splitlines()[-1] == "[]"
+
+
+def disk_full(*args, **kwargs):
+    """A piece that fails for itself, as writing onto a full disk does."""
+    raise OSError(errno.ENOSPC, "No space left on device", "/shared/out/.staging-1/height_0011.exr")
+
+
+def test_a_piece_that_fails_with_an_os_error_is_named_and_not_taken_for_a_lost_scheduler(tmp_path, footage,
+                                                                                          monkeypatch):
+    import distributed
+
+    import core.farm.sequence
+    from core.farm.sequence import ClusterFrames
+    from core.files.frames import find_frames
+    from core.sequence.shot import paint_sequence
+
+    frames, _ = footage
+    monkeypatch.setattr(core.farm.sequence, "written", disk_full)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as \
+            local, distributed.Client(local) as client:
+        with pytest.raises(FarmError) as failed:
+            paint_sequence(find_frames([str(frames)]), tmp_path / "out", Params(**PARAMS),
+                           frames_painter=ClusterFrames(client))
+    assert re.fullmatch(r"A Dask worker failed in the piece paint-relief-write-11-\w+ \(sent to \S+\): "
+                        r"no space is left on the device \(/shared/out/\.staging-1/height_0011\.exr\)\.",
+                        str(failed.value)), str(failed.value)
+    assert not list((tmp_path / "out").glob("painting_*"))

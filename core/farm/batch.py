@@ -16,7 +16,7 @@ from typing import Callable, List, Tuple
 from ..errors import Cancelled
 from ..params import Params
 from ..progress import CancelFn, ProgressFn
-from .cluster import FarmError, address, check_paths, describe, import_distributed
+from .cluster import FarmError, address, check_paths, describe, import_distributed, raise_error
 
 WAIT_SECONDS = 0.25
 """Seconds between looks at the cancel callback while stills are painted."""
@@ -44,9 +44,9 @@ def paint_stills(client, paint_file: Callable, jobs: List[Tuple[Path, Path]], ou
                 done = sum(f.done() for f in futures)
                 if progress is not None:
                     progress(done / len(jobs), f"{done}/{len(jobs)} stills painted ({where})")
-                for future in futures:
+                for future, (source, _) in zip(futures, jobs, strict=True):
                     if future.done() and future.status != "finished":
-                        future.result()
+                        raise_error(future, f"painting {source}")
                 if done == len(jobs):
                     return [future.result() for future in futures]
                 if cancel is not None and cancel():

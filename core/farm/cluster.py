@@ -19,7 +19,7 @@ import warnings
 from pathlib import Path
 from typing import Iterator, List, NamedTuple, Optional
 
-from ..errors import OutputError, PaintReliefError, ParameterError
+from ..errors import OutputError, PaintReliefError, ParameterError, plain_cause
 from ..files.staging import PROBE_PREFIX
 
 CONNECT_SECONDS = 10
@@ -121,6 +121,18 @@ def bokeh_installed() -> bool:
     """Run on the scheduler: whether it can serve its dashboard (Dask draws it with Bokeh; without Bokeh the
     dashboard's address answers with a page asking for it)."""
     return importlib.util.find_spec("bokeh") is not None
+
+
+def raise_error(future, what: str) -> None:
+    """Raise the error of ``future``, a task that is done and did not finish: an OSError the task raised itself as
+    a FarmError, "A Dask worker failed WHAT: the reason." (not to be taken for a lost scheduler, whose
+    connection errors are OSErrors too), any other error of the task as it is, CancelledError when the cluster
+    is lost."""
+    error = future.exception() if future.status == "error" else None
+    if isinstance(error, OSError):
+        where = f" ({error.filename})" if error.filename else ""
+        raise FarmError(f"A Dask worker failed {what}: {plain_cause(error)}{where}.")
+    future.result()
 
 
 def address(client) -> str:

@@ -40,7 +40,7 @@ from ..progress import CancelFn, ProgressFn
 from ..sequence.frame_step import Carried, settled_rows
 from ..sequence.shot import VECTOR_PASS_MOTION, Run
 from ..sequence.tasks import shown_frame
-from .cluster import FarmError, address, check_paths, describe, import_distributed, large_arguments
+from .cluster import FarmError, address, check_paths, describe, import_distributed, large_arguments, raise_error
 from .pieces import born, carried, motion_between, prepared, written
 
 WAIT_SECONDS = 0.25
@@ -119,9 +119,9 @@ class Frames:
             except TimeoutError:
                 continue
             for future in [f for f in self.running if f.done()]:
-                del self.running[future]
+                worker = self.running.pop(future)
                 if future.status != "finished":
-                    future.result()         # raises the piece's error, or CancelledError when the cluster is lost
+                    raise_error(future, f"in the piece {future.key} (sent to {worker})")
             living = self.lived(living)
             while committed < living and self.made("write", committed):
                 self.commit(committed, report)
