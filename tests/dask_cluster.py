@@ -40,22 +40,49 @@ def cluster(folder: Path, workers: int = 2, worker_prefix: Optional[List[str]] =
         scheduler = spawn(started, [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
                                     "--port", "0", "--no-dashboard", "--scheduler-file", str(address_file)], log)
         address = wait_for_address(address_file, scheduler)
-        worker_command = [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
-                          "--no-nanny", "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60"]
-        processes = [spawn(started, (worker_prefix or []) + worker_command, log) for _ in range(workers)]
+        processes = [spawn(started, (worker_prefix or []) + worker_command(address), log) for _ in range(workers)]
         wait_for_workers(address, workers)
         yield Cluster(address, scheduler, processes)
     finally:
-        for process in started:
-            if process.poll() is None:
-                process.send_signal(signal.SIGTERM)
-        for process in started:
-            try:
-                process.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                process.kill()
-                process.wait()
+        stop(started)
         log.close()
+
+
+def worker_command(address: str) -> List[str]:
+    """A single-threaded ``dask worker`` of the scheduler at ``address``, without a nanny."""
+    return [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
+            "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60"]
+
+
+@contextlib.contextmanager
+def joining_worker(dask: Cluster, folder: Path, worker_prefix: Optional[List[str]] = None) -> Iterator[object]:
+    """A function that starts one more worker of ``dask`` (under ``worker_prefix``) and waits until it has
+    joined; the worker is stopped after the body."""
+    started: List[subprocess.Popen] = []
+    log = open(folder / "joining.log", "ab")
+
+    def join() -> None:
+        spawn(started, (worker_prefix or []) + worker_command(dask.address), log)
+        wait_for_workers(dask.address, len(dask.workers) + 1)
+
+    try:
+        yield join
+    finally:
+        stop(started)
+        log.close()
+
+
+def stop(started: List[subprocess.Popen]) -> None:
+    """SIGTERM every process of ``started`` that still runs, then wait for each (SIGKILL after 15 s)."""
+    for process in started:
+        if process.poll() is None:
+            process.send_signal(signal.SIGTERM)
+    for process in started:
+        try:
+            process.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
 
 
 def spawn(started: List[subprocess.Popen], command: List[str], log) -> subprocess.Popen:

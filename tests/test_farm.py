@@ -13,7 +13,7 @@ import pytest
 
 pytest.importorskip("distributed")
 
-from dask_cluster import cluster  # noqa: E402
+from dask_cluster import cluster, joining_worker  # noqa: E402
 from tiny_shot import shot  # noqa: E402
 
 from core import paint_sequence_files  # noqa: E402
@@ -143,6 +143,31 @@ def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(
     message = str(refused.value)
     assert "tcp://127.0.0.1:" in message and str(hidden / "frame_0011.png") in message and "cannot read" in message
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
+def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_paints(tmp_path, footage):
+    frames, _ = footage
+    shared = tmp_path / "shared" / "frames"
+    shared.mkdir(parents=True)
+    for frame in sorted(frames.iterdir()):
+        (shared / frame.name).write_bytes(frame.read_bytes())
+    blind = ["unshare", "--mount", "--propagation", "private", "sh", "-c",
+             f"mount -t tmpfs none {shared} && exec \"$@\"", "worker"]
+    with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
+        joined = []
+
+        def join_after_two(fraction, message):
+            if not joined and message.startswith("2/"):
+                join()
+                joined.append(message)
+
+        with pytest.raises(OutputError) as refused:
+            paint_sequence_files([shared], tmp_path / "out", Params(**PARAMS), progress=join_after_two,
+                                 farm=Farm(scheduler=dask.address))
+    message = str(refused.value)
+    assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
+    assert 2 <= len(list((tmp_path / "out").glob("painting_*.png"))) < FRAMES
 
 
 def test_a_frame_written_twice_goes_to_two_staging_folders_of_the_same_bytes(tmp_path, footage):

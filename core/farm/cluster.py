@@ -140,10 +140,11 @@ def address(client) -> str:
     return client.scheduler.address
 
 
-def check_paths(client, readable: List[Path], writable: List[Path]) -> None:
-    """OutputError (one sentence naming the worker and the path) when a worker of ``client``'s cluster cannot read
-    one of ``readable`` files or write into one of ``writable`` folders (a probe file made and removed there)."""
-    problems = client.run(path_problem, [str(p) for p in readable], [str(p) for p in writable])
+def check_paths(client, readable: List[Path], writable: List[Path], workers: Optional[List[str]] = None) -> None:
+    """OutputError (one sentence naming the worker and the path) when a worker of ``client``'s cluster (of
+    ``workers`` only, when given) cannot read one of ``readable`` files or write into one of ``writable`` folders (a
+    probe file made and removed there)."""
+    problems = client.run(path_problem, [str(p) for p in readable], [str(p) for p in writable], workers=workers)
     for worker, problem in sorted(problems.items()):
         if problem:
             raise OutputError(f"The Dask worker {worker} ({problem}); every worker must see the input and the "

@@ -32,7 +32,7 @@ from __future__ import annotations
 import concurrent.futures
 import secrets
 import time
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, Optional, Set, Tuple
 
 from ..errors import Cancelled
 from ..files.staging import recover
@@ -69,7 +69,6 @@ class ClusterFrames:
         """Paint ``run``'s frames ``start`` .. the last on the cluster, committing each in order."""
         distributed = import_distributed()
         try:
-            check_paths(self.client, run.frames.paths[max(start - 1, 0):], [folder.folder])
             with large_arguments(), self.client.as_current():
                 Frames(self.client, run, start, folder).paint(report, progress, cancel)
         except (concurrent.futures.CancelledError, distributed.comm.CommClosedError, OSError):
@@ -95,12 +94,14 @@ class Frames:
         self.strokes: Dict[int, object] = {}
         self.bands: Dict[int, List[Tuple[int, int]]] = {}     # frame: the rows of its judging canvas's pieces
         self.threads: Dict[str, int] = {}
+        self.checked: Set[str] = set()          # the workers known to see the frames and the output folder
 
     def paint(self, report: dict, progress: ProgressFn, cancel: CancelFn) -> None:
         """Run pieces and commit frames in order until every frame is committed."""
         distributed = import_distributed()
-        where = describe(self.client)
         self.threads = self.client.nthreads()
+        self.check_new_workers()
+        where = describe(self.client)
         if self.start > 0:
             self.strokes[self.start - 1] = self.run.resumed_frame(self.folder.folder)
             self.submit("shown", self.start - 1, shown_frame, self.strokes[self.start - 1], self.run.params,
@@ -146,11 +147,20 @@ class Frames:
     def dispatch(self, committed: int, living: int) -> None:
         """Start the most urgent pieces that can run, while fewer pieces run than the cluster has threads."""
         self.threads = self.client.nthreads()
+        self.check_new_workers()
         ahead = min(self.count, committed + 2 * max(sum(self.threads.values()), 1) + 2)
         for piece in self.urgent(committed, living, ahead):
             if not self.free_workers():
                 return
             self.start_piece(*piece)
+
+    def check_new_workers(self) -> None:
+        """Check that the workers not checked yet (every worker at the start, then any that joins) can read the
+        frames still to paint and write into the output folder: OutputError naming the worker and the path."""
+        new = sorted(set(self.threads) - self.checked)
+        if new:
+            check_paths(self.client, self.run.frames.paths[max(self.start - 1, 0):], [self.folder.folder], new)
+            self.checked.update(new)
 
     def free_workers(self) -> Dict[str, int]:
         """{worker: threads} of the workers running fewer of this run's pieces than they have threads."""
