@@ -127,16 +127,20 @@ def can_unshare() -> bool:
         return False
 
 
+def shared_frames(frames: Path, tmp_path: Path) -> tuple:
+    """(a copy of ``frames`` in a folder of its own, a command prefix under which a worker sees that folder empty,
+    as a machine that has not mounted the shared storage)."""
+    shared = tmp_path / "shared" / "frames"
+    shared.mkdir(parents=True)
+    for frame in sorted(frames.iterdir()):
+        (shared / frame.name).write_bytes(frame.read_bytes())
+    return shared, ["unshare", "--mount", "--propagation", "private", "sh", "-c",
+                    f"mount -t tmpfs none {shared} && exec \"$@\"", "worker"]
+
+
 @pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
 def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(tmp_path, footage):
-    frames, _ = footage
-    hidden = tmp_path / "shared" / "frames"
-    hidden.mkdir(parents=True)
-    for frame in sorted(frames.iterdir()):
-        (hidden / frame.name).write_bytes(frame.read_bytes())
-    # Each worker sees an empty folder over the frames, as a machine that has not mounted the shared storage.
-    prefix = ["unshare", "--mount", "--propagation", "private", "sh", "-c",
-              f"mount -t tmpfs none {hidden} && exec \"$@\"", "worker"]
+    hidden, prefix = shared_frames(footage[0], tmp_path)
     with cluster(tmp_path / "cluster", workers=1, worker_prefix=prefix) as dask:
         with pytest.raises(OutputError) as refused:
             paint_sequence_files([hidden], tmp_path / "out", Params(**PARAMS), farm=Farm(scheduler=dask.address))
@@ -147,13 +151,7 @@ def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(
 
 @pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
 def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_paints(tmp_path, footage):
-    frames, _ = footage
-    shared = tmp_path / "shared" / "frames"
-    shared.mkdir(parents=True)
-    for frame in sorted(frames.iterdir()):
-        (shared / frame.name).write_bytes(frame.read_bytes())
-    blind = ["unshare", "--mount", "--propagation", "private", "sh", "-c",
-             f"mount -t tmpfs none {shared} && exec \"$@\"", "worker"]
+    shared, blind = shared_frames(footage[0], tmp_path)
     with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
         joined = []
 
