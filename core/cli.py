@@ -247,6 +247,7 @@ def _add_sequence_parser(sub) -> None:
 
 
 def _add_batch_parser(sub) -> None:
+    """The ``batch`` subcommand's options."""
     p = sub.add_parser(
         "batch", help="paint unrelated stills, each into a folder of its own",
         description="Paint each INPUT as `paint` does into OUTROOT/<name>_001 (the first free counter, as the "
