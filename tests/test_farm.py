@@ -17,6 +17,7 @@ from dask_cluster import cluster, joining_worker  # noqa: E402
 from tiny_shot import shot  # noqa: E402
 
 from core import paint_sequence_files  # noqa: E402
+from core.api import paint_batch  # noqa: E402
 from core.errors import Cancelled, OutputError  # noqa: E402
 from core.farm.cluster import Farm, FarmError  # noqa: E402
 from core.params import Params  # noqa: E402
@@ -166,6 +167,24 @@ def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_
     message = str(refused.value)
     assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
     assert 2 <= len(list((tmp_path / "out").glob("painting_*.png"))) < FRAMES
+
+
+@pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
+def test_a_worker_that_joins_a_batch_and_cannot_see_the_stills_is_named(tmp_path, footage):
+    shared, blind = shared_frames(footage[0], tmp_path)
+    with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
+        joined = []
+
+        def join_after_one(fraction, message):
+            if not joined and message.startswith("1/"):
+                join()
+                joined.append(message)
+
+        with pytest.raises(OutputError) as refused:
+            paint_batch(sorted(map(str, shared.iterdir())), tmp_path / "out", Params(**PARAMS),
+                        progress=join_after_one, farm=Farm(scheduler=dask.address))
+    message = str(refused.value)
+    assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
 
 
 def test_a_frame_written_twice_goes_to_two_staging_folders_of_the_same_bytes(tmp_path, footage):

@@ -16,7 +16,7 @@ from typing import Callable, List, Tuple
 from ..errors import Cancelled
 from ..params import Params
 from ..progress import CancelFn, ProgressFn
-from .cluster import FarmError, address, check_paths, describe, import_distributed, raise_error
+from .cluster import FarmError, address, check_new_workers, describe, import_distributed, raise_error
 
 WAIT_SECONDS = 0.25
 """Seconds between looks at the cancel callback while stills are painted."""
@@ -27,12 +27,14 @@ def paint_stills(client, paint_file: Callable, jobs: List[Tuple[Path, Path]], ou
     """Paint each (input, folder) of ``jobs`` with ``paint_file(input, folder, params, normal_map=...)`` on
     ``client``'s cluster; return the reports in the jobs' order.
 
-    Every worker must read every input and write under ``output_root`` (checked first: one sentence naming the
-    worker and the path). progress(fraction, message) after each still; cancel() stops the batch (the stills
-    painted stay). A still that fails raises its error and the rest are cancelled; a lost scheduler is a FarmError.
+    Every worker must read every input and write under ``output_root`` (checked first, and a worker that joins when
+    it is first seen: one sentence naming the worker and the path). progress(fraction, message) after each still;
+    cancel() stops the batch (the stills painted stay). A still that fails raises its error and the rest are
+    cancelled; a lost scheduler is a FarmError.
     """
     distributed = import_distributed()
-    check_paths(client, [source for source, _ in jobs], [output_root])
+    sources, checked = [source for source, _ in jobs], set()
+    check_new_workers(client, client.nthreads(), checked, sources, [output_root])
     where = describe(client)
     token = secrets.token_hex(4)
     futures = [client.submit(paint_file, str(source), str(folder), params, normal_map=normal_map,
@@ -44,6 +46,8 @@ def paint_stills(client, paint_file: Callable, jobs: List[Tuple[Path, Path]], ou
                 done = sum(f.done() for f in futures)
                 if progress is not None:
                     progress(done / len(jobs), f"{done}/{len(jobs)} stills painted ({where})")
+                if done < len(jobs):
+                    check_new_workers(client, client.nthreads(), checked, sources, [output_root])
                 for future, (source, _) in zip(futures, jobs, strict=True):
                     if future.done() and future.status != "finished":
                         raise_error(future, f"painting {source}")

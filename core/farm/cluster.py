@@ -140,15 +140,24 @@ def address(client) -> str:
     return client.scheduler.address
 
 
-def check_paths(client, readable: List[Path], writable: List[Path], workers: Optional[List[str]] = None) -> None:
-    """OutputError (one sentence naming the worker and the path) when a worker of ``client``'s cluster (of
-    ``workers`` only, when given) cannot read one of ``readable`` files or write into one of ``writable`` folders (a
-    probe file made and removed there)."""
+def check_paths(client, readable: List[Path], writable: List[Path], workers: List[str]) -> None:
+    """OutputError (one sentence naming the worker and the path) when one of ``workers`` (addresses) of
+    ``client``'s cluster cannot read one of ``readable`` files or write into one of ``writable`` folders (a probe
+    file made and removed there)."""
     problems = client.run(path_problem, [str(p) for p in readable], [str(p) for p in writable], workers=workers)
     for worker, problem in sorted(problems.items()):
         if problem:
             raise OutputError(f"The Dask worker {worker} ({problem}); every worker must see the input and the "
                               f"output folders at the same paths.")
+
+
+def check_new_workers(client, workers, checked: set, readable: List[Path], writable: List[Path]) -> None:
+    """``check_paths`` on those of ``workers`` (addresses) not in ``checked`` yet, then add them to it: each worker
+    is checked once, whether it was there at the start or joined later."""
+    new = sorted(set(workers) - checked)
+    if new:
+        check_paths(client, readable, writable, new)
+        checked.update(new)
 
 
 def path_problem(readable: List[str], writable: List[str]) -> Optional[str]:

@@ -40,7 +40,7 @@ from ..progress import CancelFn, ProgressFn
 from ..sequence.frame_step import Carried, settled_rows
 from ..sequence.shot import VECTOR_PASS_MOTION, Run
 from ..sequence.tasks import shown_frame
-from .cluster import FarmError, address, check_paths, describe, import_distributed, large_arguments, raise_error
+from .cluster import FarmError, address, check_new_workers, describe, import_distributed, large_arguments, raise_error
 from .pieces import born, carried, motion_between, prepared, written
 
 WAIT_SECONDS = 0.25
@@ -157,10 +157,8 @@ class Frames:
     def check_new_workers(self) -> None:
         """Check that the workers not checked yet (every worker at the start, then any that joins) can read the
         frames still to paint and write into the output folder: OutputError naming the worker and the path."""
-        new = sorted(set(self.threads) - self.checked)
-        if new:
-            check_paths(self.client, self.run.frames.paths[max(self.start - 1, 0):], [self.folder.folder], new)
-            self.checked.update(new)
+        check_new_workers(self.client, self.threads, self.checked, self.run.frames.paths[max(self.start - 1, 0):],
+                          [self.folder.folder])
 
     def free_workers(self) -> Dict[str, int]:
         """{worker: threads} of the workers running fewer of this run's pieces than they have threads."""
