@@ -52,14 +52,22 @@ def footage(tmp_path_factory):
     return frames, files_of(folder / "alone")
 
 
+def once_done(count: int, action, happened: list):
+    """A progress callback that calls ``action()`` once, when ``count`` frames (or stills) are done, and appends
+    the progress message to ``happened``."""
+    def progress(fraction, message):
+        if not happened and message.startswith(f"{count}/"):
+            action()
+            happened.append(message)
+    return progress
+
+
 def killing_after(committed: int, process: subprocess.Popen, kills: list):
     """A progress callback that SIGKILLs ``process`` once ``committed`` frames are committed."""
-    def progress(fraction, message):
-        if not kills and message.startswith(f"{committed}/"):
-            process.send_signal(signal.SIGKILL)
-            process.wait()
-            kills.append(message)
-    return progress
+    def kill():
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+    return once_done(committed, kill, kills)
 
 
 def test_a_sequence_that_loses_a_worker_midway_is_complete_and_the_same_bytes_as_one_process(tmp_path, footage):
@@ -155,14 +163,8 @@ def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_
     shared, blind = shared_frames(footage[0], tmp_path)
     with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
         joined = []
-
-        def join_after_two(fraction, message):
-            if not joined and message.startswith("2/"):
-                join()
-                joined.append(message)
-
         with pytest.raises(OutputError) as refused:
-            paint_sequence_files([shared], tmp_path / "out", Params(**PARAMS), progress=join_after_two,
+            paint_sequence_files([shared], tmp_path / "out", Params(**PARAMS), progress=once_done(2, join, joined),
                                  farm=Farm(scheduler=dask.address))
     message = str(refused.value)
     assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
@@ -174,15 +176,9 @@ def test_a_worker_that_joins_a_batch_and_cannot_see_the_stills_is_named(tmp_path
     shared, blind = shared_frames(footage[0], tmp_path)
     with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
         joined = []
-
-        def join_after_one(fraction, message):
-            if not joined and message.startswith("1/"):
-                join()
-                joined.append(message)
-
         with pytest.raises(OutputError) as refused:
             paint_batch(sorted(map(str, shared.iterdir())), tmp_path / "out", Params(**PARAMS),
-                        progress=join_after_one, farm=Farm(scheduler=dask.address))
+                        progress=once_done(1, join, joined), farm=Farm(scheduler=dask.address))
     message = str(refused.value)
     assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
 
