@@ -19,7 +19,7 @@ import time
 
 import bpy
 
-from ..comparison.compare import cycles_attributes, restore
+from ..comparison.compare import cycles_attributes, render_still, restore
 from ..scene import animated, canvas
 
 MOVIE_FPS = 10
@@ -60,22 +60,6 @@ def configure_film(scene, samples, denoise, size):
     return previous
 
 
-def render_frame(scene, path):
-    """Render the scene's camera at its current frame to the PNG ``path`` (written under a temporary name, then
-    renamed)."""
-    folder, name = os.path.split(path)
-    temp = os.path.join(folder, ".{}.tmp-{}.png".format(os.path.splitext(name)[0], os.getpid()))
-    scene.render.filepath = temp
-    try:
-        bpy.ops.render.render(write_still=True)
-        if not os.path.isfile(temp):
-            raise FilmError("Cycles did not write the frame {}.".format(path))
-        os.replace(temp, path)
-    finally:
-        if os.path.exists(temp):
-            os.remove(temp)
-
-
 def check_film(scene, canvas_obj, samples):
     """Raise FilmError (one sentence) when the scene cannot render the film; return the canvas's frame numbers."""
     if canvas_obj is None or not animated.is_animated(canvas_obj):
@@ -113,7 +97,7 @@ def film_steps(context, canvas_obj, relit_dir, samples, size, denoise=False, sec
             yield done, len(frames), "Rendering frame {} ({}/{})".format(number, done + 1, len(frames))
             scene.frame_set(number)
             start = time.perf_counter()
-            render_frame(scene, os.path.join(relit_dir, frame_file(number)))
+            render_still(scene, os.path.join(relit_dir, frame_file(number)), FilmError)
             if seconds is not None:
                 seconds.append(time.perf_counter() - start)
     finally:

@@ -123,15 +123,17 @@ def aim_key(key, azimuth_deg, elevation_deg, brightness, distance):
     key.data.energy = lighting.sun_strength(brightness, elevation)
 
 
-def render_still(scene, path):
-    """Render the scene's camera to ``path`` (written under a temporary name, then renamed)."""
+def render_still(scene, path, error=SweepError):
+    """Render the scene's camera at its current frame to ``path``, in the scene's file format (written under a
+    temporary name with the same extension, then renamed); ``error`` (one sentence) when Cycles writes nothing."""
     folder, name = os.path.split(path)
-    temp = os.path.join(folder, ".{}.tmp-{}.exr".format(os.path.splitext(name)[0], os.getpid()))
+    stem, extension = os.path.splitext(name)
+    temp = os.path.join(folder, ".{}.tmp-{}{}".format(stem, os.getpid(), extension))
     scene.render.filepath = temp
     try:
         bpy.ops.render.render(write_still=True)
         if not os.path.isfile(temp):
-            raise SweepError("Cycles did not write the render {}.".format(path))
+            raise error("Cycles did not write {}.".format(path))
         os.replace(temp, path)
     finally:
         if os.path.exists(temp):

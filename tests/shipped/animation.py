@@ -102,6 +102,7 @@ def main(zip_path, work):
     reading = import_module(MODULE + ".core.files.reading")
     animated = import_module(MODULE + ".addon.scene.animated")
     film = import_module(MODULE + ".addon.animation.film")
+    compare = import_module(MODULE + ".addon.comparison.compare")
     cli_command = import_module(MODULE + ".addon.cli_command")
     ops = bpy.ops.paint_relief
     scene = bpy.context.scene
@@ -173,7 +174,7 @@ def main(zip_path, work):
             for frame in (FIRST, FIRST + FRAMES - 1):
                 scene.frame_set(frame)
                 path = os.path.join(work, "relit_{}.png".format(frame))
-                film.render_frame(scene, path)
+                compare.render_still(scene, path, film.FilmError)
                 rendered[frame] = reading.read_image(path)
         finally:
             film.restore(previous)
