@@ -1,4 +1,9 @@
-"""Reference implementations that only the tests use, to hold the production code to.
+"""Reference implementations and checks that only the tests use, to hold the production code to.
+
+folder_bytes and same_bytes: "every output file the same bytes", the one
+check behind every determinism, resume and farm test. one_sentence and
+one_sentence_run: "bad input is one sentence", for a message and for a
+command that ran.
 
 cut_costs and best_cut: Eq. 2 for one grid at a time (ALGORITHM §2), the
 simple reference that core.analysis.partition.partition, which cuts a whole
@@ -9,12 +14,49 @@ core/analysis/partition.py.
 
 from __future__ import annotations
 
-from typing import Optional, Tuple
+import re
+from pathlib import Path
+from typing import Dict, Iterable, Optional, Tuple
 
 import numpy as np
 
 from core.analysis.partition import DEFAULT_DELTA, _check_eq2_params, _eq2, rect_sums
 from core.errors import ParameterError
+
+
+def folder_bytes(folder: Path, leave_out: Iterable[str] = ("report.json",)) -> Dict[str, bytes]:
+    """{file name: bytes} of every file in ``folder`` (not its subfolders) but those named in ``leave_out`` (by
+    default report.json, which holds seconds and the output folder's path)."""
+    skipped = set(leave_out)
+    return {p.name: p.read_bytes() for p in sorted(Path(folder).iterdir()) if p.is_file() and p.name not in skipped}
+
+
+def same_bytes(folder: Path, other: Path, leave_out: Iterable[str] = ("report.json",)) -> Dict[str, bytes]:
+    """Assert that ``folder`` and ``other`` hold the same files with the same bytes (``folder_bytes``); return the
+    first's. The message names the files that differ or that only one holds."""
+    mine, theirs = folder_bytes(folder, leave_out), folder_bytes(other, leave_out)
+    differ = sorted(name for name in set(mine) | set(theirs) if mine.get(name) != theirs.get(name))
+    assert not differ, f"{folder} and {other} differ in {differ}"
+    return mine
+
+
+def one_sentence(message: str) -> str:
+    """Assert that ``message`` (an error's text; an operator's report, which Blender prefixes "Error: " headless)
+    is one sentence: one line ending in a full stop, no second sentence, no traceback. Return the sentence."""
+    text = message.strip()
+    text = text[len("Error: "):] if text.startswith("Error: ") else text
+    assert text.endswith(".") and "\n" not in text and "Traceback" not in text, message
+    assert not re.search(r"[.!?]\s+[A-Z]", text), message
+    return text
+
+
+def one_sentence_run(run) -> str:
+    """Assert that the finished command ``run`` (a subprocess.CompletedProcess with text stderr) failed with one
+    sentence on stderr and nothing else there; return the sentence."""
+    lines = [line for line in run.stderr.splitlines() if line.strip()]
+    assert run.returncode != 0, run.stderr
+    assert len(lines) == 1, run.stderr
+    return one_sentence(lines[0])
 
 
 def _check_rect(sat: np.ndarray, rect) -> Tuple[int, int, int, int]:
