@@ -51,7 +51,7 @@ SHIPPED_MISSING := $(filter-out $(SHIPPED_HERE),$(SHIPPED_VERSIONS))
 PLATFORM_TAG := $(shell $(PYTHON) -c "import platform as p; print({'Linux': 'linux', 'Darwin': 'macos', 'Windows': 'windows'}.get(p.system(), '?') + '_' + {'x86_64': 'x64', 'AMD64': 'x64', 'arm64': 'arm64', 'aarch64': 'arm64'}.get(p.machine(), '?'))" 2>/dev/null)
 SHIPPED_ZIP := $(DIST)/paint_relief-$(VERSION)-$(PLATFORM_TAG).zip
 
-.PHONY: setup test test-core test-numpy1 test-shipped pythons demo bench extension clean
+.PHONY: setup test test-quick test-core test-numpy1 test-shipped pythons demo bench extension clean
 
 setup: $(STAMP)
 
@@ -64,6 +64,12 @@ $(STAMP): requirements.txt
 # Everything: the whole suite in .venv (NumPy 2), the suite without Blender on NumPy 1.24, then the extension
 # as shipped in bpy-only environments.
 test: test-core test-numpy1 test-shipped
+
+# The suite in .venv without the tests that start Blender or a Dask cluster (pytest markers blender and cluster):
+# a developer's quick check. CI runs everything (`make test`).
+test-quick: $(STAMP)
+	$(VENV)/bin/ruff check .
+	$(PY) -m pytest -q -m "not blender and not cluster"
 
 # One line naming what this machine cannot test for want of an interpreter; under CI=1 that is a failure.
 pythons:
