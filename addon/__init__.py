@@ -4,7 +4,8 @@
 Sub-packages by what they do: ``settings/`` (scene settings, preferences,
 presets), ``scene/`` (canvas, camera, lights and the operators that stage
 them), ``painting/`` (the Paint and Paint Animation operators), ``comparison/`` (the lighting
-comparison's render sweep, operator and command). At the top: ``values``
+comparison's render sweep, operator and command), ``film/`` (the relit painted film and its
+command). At the top: ``values``
 (pure helpers, no ``bpy``), ``dependencies`` (the painter's libraries),
 ``panels`` (the sidebar) and ``cli_command`` (``blender --command``).
 
@@ -15,12 +16,12 @@ no stale classes or properties behind.
 
 from . import cli_command, panels
 from .comparison import ops_compare
-from .painting import dropped, ops_animation, ops_paint
+from .painting import dropped, ops_paint, ops_paint_shot
 from .scene import ops_scene
 from .settings import preferences, presets, properties
 
 # Register order matters: property groups first, panels (which name the operators) last.
-_modules = (properties, preferences, ops_paint, ops_animation, ops_scene, ops_compare, presets, dropped, panels, cli_command)
+_modules = (properties, preferences, ops_paint, ops_paint_shot, ops_scene, ops_compare, presets, dropped, panels, cli_command)
 
 
 def register():

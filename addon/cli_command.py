@@ -90,9 +90,9 @@ def _compare(argv):
 
 
 def _animate(argv):
-    from .animation import animate_command
+    from .film import film_command
 
-    return animate_command.main(["animate", "--", *argv], prog="blender --command paint_relief animate")
+    return film_command.main(["animate", "--", *argv], prog="blender --command paint_relief animate")
 
 
 SUBCOMMANDS = {"paint": _paint, "canvas": _canvas, "compare": _compare, "animate": _animate}

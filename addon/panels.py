@@ -12,7 +12,7 @@ import bpy
 from bpy.types import Panel
 
 from . import values
-from .painting import animation_source
+from .painting import shot_source
 from .settings import properties
 from .settings.presets import PAINT_RELIEF_MT_paint_presets
 
@@ -122,7 +122,7 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
                 row = layout.row()
                 row.alignment = "RIGHT"
                 row.label(text=os.path.join(properties.paintings_parent(context), values.folder_stem(
-                    animation_source.source_name(settings, scene)) + "_NNN"), icon="INFO")
+                    shot_source.source_name(settings, scene)) + "_NNN"), icon="INFO")
         layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
         layout.operator("paint_relief.paint_animation", icon="RENDER_ANIMATION")
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Launch the relit painted film from a checkout (addon/animation/animate_command.py has the whole run and its options).
+"""Launch the relit painted film from a checkout (addon/film/film_command.py has the whole run and its options).
 
     blender -b --python-exit-code 1 --python sample_scenes/animate.py -- FRAMES -o OUTDIR [options]
     .venv/bin/python sample_scenes/animate.py FRAMES -o OUTDIR [options]
@@ -22,5 +22,5 @@ from compare import extension_package  # noqa: E402 (the launcher's folder first
 
 if __name__ == "__main__":
     package = extension_package()
-    command = importlib.import_module(package.__name__ + ".addon.animation.animate_command")
+    command = importlib.import_module(package.__name__ + ".addon.film.film_command")
     sys.exit(command.main(sys.argv))

@@ -37,7 +37,7 @@ CORE_LAYERS = [
 
 # addon's layers, lowest first, by the same rule. The base is what every part shares (pure helpers, the painter's
 # libraries); the scene builders come next; the settings sit above them because their update callbacks change the
-# canvas and lights; the operators of painting and of the comparison read the settings; the relit film (animation)
+# canvas and lights; the operators of painting and of the comparison read the settings; the relit film (film)
 # renders with the comparison's settings; the sidebar names them all;
 # the command line and the package's register/unregister are the entry points.
 ADDON_LAYERS = [
@@ -46,7 +46,7 @@ ADDON_LAYERS = [
     ("settings", {"addon.settings"}),
     ("painting", {"addon.painting"}),
     ("comparison", {"addon.comparison"}),
-    ("animation", {"addon.animation"}),
+    ("film", {"addon.film"}),
     ("panels", {"addon.panels"}),
     ("entry", {"addon", "addon.cli_command"}),
 ]

@@ -74,7 +74,7 @@ def animation_output_dir(context, key, name):
     holds an unfinished sequence goes on with it). Else the folder of the
     scene's last Paint Animation when that run stopped before its last frame
     (or before its first, when only the scene's rendered frames are there)
-    and ran with ``key`` (``animation_source.source_key``: the source, the
+    and ran with ``key`` (``shot_source.source_key``: the source, the
     painter's parameters and the fade), so that pressing Paint Animation
     again goes on with it. Else a new folder ``<name>_<counter>`` (``name``:
     the source's) inside :func:`paintings_parent`.

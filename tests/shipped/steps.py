@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""What the shipped-package scripts (flow.py, animation.py) share: the extension's module name, the findings each
+"""What the shipped-package scripts (flow.py, shot.py) share: the extension's module name, the findings each
 step records and the way an operator is called headless. Imported by those scripts as a sibling module; nothing of
 the product's checkout is imported."""
 

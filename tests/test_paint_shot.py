@@ -1,7 +1,7 @@
 """Paint Animation inside Blender: the scene's render leaves the scene as it found it, a stopped run keeps
 complete frames and goes on to the same bytes, and every kind of source names the right frames.
 
-tests/blender/animation_checks.py runs every step in one subprocess (``bpy``
+tests/blender/paint_shot_checks.py runs every step in one subprocess (``bpy``
 can be imported once per process; BLENDER_USER_RESOURCES in a temporary
 folder) on a 64 x 48 px, 4-frame Cycles scene at 2 samples, and prints its
 findings as JSON; each test here asserts on one step. The pure helpers of
@@ -20,7 +20,7 @@ import pytest
 from addon_values import values
 
 REPO = Path(__file__).resolve().parent.parent
-HELPER = REPO / "tests" / "blender" / "animation_checks.py"
+HELPER = REPO / "tests" / "blender" / "paint_shot_checks.py"
 
 
 # --- pure helpers -------------------------------------------------------------
@@ -88,7 +88,7 @@ def results(tmp_path_factory):
     run = subprocess.run([sys.executable, str(HELPER), str(work / "checks")], capture_output=True, text=True,
                          timeout=600, env=env, cwd=work)
     lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
-    assert run.returncode == 0 and lines, "animation_checks.py failed:\n{}\n{}".format(run.stdout[-4000:],
+    assert run.returncode == 0 and lines, "paint_shot_checks.py failed:\n{}\n{}".format(run.stdout[-4000:],
                                                                                      run.stderr[-4000:])
     return json.loads(lines[-1][len("RESULTS "):])
 

@@ -1,8 +1,8 @@
-"""The relit film's figures (core/evaluation/animation.py), without Blender.
+"""The relit film's figures (core/evaluation/film.py), without Blender.
 
 A tiny shot is painted with ``core.paint_sequence_files``; a stand-in "relit"
 film (the painted frames' own painting_NNNN.png, scaled by area) is measured
-with ``run_animation``, so its figures must equal the unlit painting's,
+with ``run_film``, so its figures must equal the unlit painting's,
 measured the same way.
 """
 
@@ -15,13 +15,13 @@ from tiny_shot import FIRST, FRAMES, shot
 import core
 from core.colour import linear_to_srgb
 from core.errors import InputError
-from core.evaluation.animation import (
+from core.evaluation.film import (
     area_weights,
     film_figures,
     frame_file,
     resize_area,
     resize_motion,
-    run_animation,
+    run_film,
 )
 from core.files import reading, writing
 from core.lighting import paper_lighting
@@ -75,7 +75,7 @@ def painted(tmp_path_factory):
     for number in range(FIRST, FIRST + FRAMES):  # a stand-in relit film: the unlit painting at the film's size
         colour = linear_to_srgb(reading.read_exr(work / "painted" / f"color_{number:04d}.exr")[0][..., :3])
         writing.write_png(relit / frame_file(number), resize_area(colour, FILM_W, FILM_H))
-    result = run_animation(work / "painted", relit, work / "out", 135.0, 30.0, render={"samples": 4})
+    result = run_film(work / "painted", relit, work / "out", 135.0, 30.0, render={"samples": 4})
     return {"work": work, "frames": frames, "result": result}
 
 
@@ -129,9 +129,9 @@ def test_figures_recomputed_from_the_written_frames(painted):
 def test_missing_relit_frames_and_folders_are_refused_in_one_sentence(painted, tmp_path):
     work = painted["work"]
     with pytest.raises(InputError, match="holds no painted sequence"):
-        run_animation(tmp_path, work / "relit", tmp_path / "out", 0.0, 30.0)
+        run_film(tmp_path, work / "relit", tmp_path / "out", 0.0, 30.0)
     partial = tmp_path / "relit"
     partial.mkdir()
     (partial / frame_file(FIRST)).write_bytes((work / "relit" / frame_file(FIRST)).read_bytes())
     with pytest.raises(InputError, match=frame_file(FIRST + 1)):
-        run_animation(work / "painted", partial, tmp_path / "out", 0.0, 30.0)
+        run_film(work / "painted", partial, tmp_path / "out", 0.0, 30.0)

@@ -25,9 +25,9 @@ with its time:
    and the orthographic camera; the render is the map's aspect with its
    longer side ``--size`` px (never larger than the maps);
 4. film: every frame rendered with Cycles into ``OUTDIR/relit/NNNN.png``
-   (``addon/animation/film.py``), one line per frame with its seconds;
+   (``addon/film/relit.py``), one line per frame with its seconds;
 5. ``OUTDIR/scene.blend``, set to render the same film (Render Animation);
-6. ``core.evaluation.animation.run_animation``: the paper's 2-D lighting
+6. ``core.evaluation.film.run_film``: the paper's 2-D lighting
    of every frame (``OUTDIR/paper/NNNN.png``), footage | relit | paper side by
    side (``OUTDIR/side_by_side/NNNN.png``, ``animation.gif``), the warping
    errors (``animation.json``, ``animation.md``);
@@ -170,7 +170,7 @@ def stage_scene(package, args, painted_dir):
     call_operator(ops.add_lights)
     call_operator(ops.add_camera)
     canvas_obj = package.addon.scene.canvas.find_role(scene, "canvas")
-    film = package.addon.animation.film
+    film = package.addon.film.relit
     size = package.addon.values.film_size(*film.canvas_map_size(canvas_obj), args.size)
     return canvas_obj, size
 
@@ -204,8 +204,8 @@ def main(argv, prog=None):
         package, where = load_extension()
         core = importlib.import_module(package.__name__ + ".core")
         writing = importlib.import_module(core.__name__ + ".files.writing")
-        animation = importlib.import_module(core.__name__ + ".evaluation.animation")
-        film = importlib.import_module(package.__name__ + ".addon.animation.film")
+        evaluation = importlib.import_module(core.__name__ + ".evaluation.film")
+        film = importlib.import_module(package.__name__ + ".addon.film.relit")
         log.say("    from {}".format(where))
         out_dir = Path(writing.ensure_output_dir(args.output)).resolve()
 
@@ -237,7 +237,7 @@ def main(argv, prog=None):
         render = {"samples": args.samples, "denoise": args.denoise, "method": args.method,
                   "thickness_mm": args.thickness_mm, "seconds": [round(s, 3) for s in seconds],
                   "seconds_per_frame": round(sum(seconds) / len(seconds), 3)}
-        result = animation.run_animation(painted_dir, out_dir / "relit", out_dir, args.azimuth, args.elevation,
+        result = evaluation.run_film(painted_dir, out_dir / "relit", out_dir, args.azimuth, args.elevation,
                                          render=render)
 
         movie = None

@@ -2,7 +2,7 @@
 """The ``paint_relief.paint_animation`` operator: paint an image sequence, or the scene's animation, into
 one folder of painted frames whose strokes live across frames.
 
-The work is an ``AnimationJob``: for the scene's animation, first its frames
+The work is an ``ShotJob``: for the scene's animation, first its frames
 rendered one by one (``scene_render.RenderedFrames``) into ``scene_render/``
 inside the output folder; then one call of ``core.paint_sequence_files``,
 which commits every painted frame whole and goes on after the last complete
@@ -27,18 +27,18 @@ from bpy.types import Operator
 
 from .. import dependencies, values
 from ..settings import properties
-from . import animation_source, jobs, scene_render
+from . import jobs, scene_render, shot_source
 from .ops_paint import params_from_settings
 
 TIMER_INTERVAL = 0.1
 
 
-class AnimationJob:
+class ShotJob:
     """One Paint Animation: what it paints, where, and how.
 
     inputs: the painter's ``inputs`` (files in order, or one folder or
     pattern); for the scene, ``frames`` renders them first. output_dir: the
-    absolute folder of painted frames; key: ``animation_source.source_key``.
+    absolute folder of painted frames; key: ``shot_source.source_key``.
     """
 
     def __init__(self, scene, inputs, frames, output_dir, params, sequence_settings, key):
@@ -72,7 +72,7 @@ class AnimationJob:
 
 
 def prepare(context):
-    """Check the chosen source, settings and folder; return an AnimationJob. ValueError or
+    """Check the chosen source, settings and folder; return an ShotJob. ValueError or
     core.PaintReliefError (one sentence each) when something is missing or wrong. Renders nothing yet."""
     from ... import core
 
@@ -93,9 +93,9 @@ def prepare(context):
             raise ValueError("Scene {} has no active camera to render its animation with.".format(scene.name))
         inputs = None
     else:
-        inputs = animation_source.sequence_inputs(settings)
-    key = animation_source.source_key(settings, scene, view_layer, params)
-    output_dir = properties.animation_output_dir(context, key, animation_source.source_name(settings, scene))
+        inputs = shot_source.sequence_inputs(settings)
+    key = shot_source.source_key(settings, scene, view_layer, params)
+    output_dir = properties.animation_output_dir(context, key, shot_source.source_name(settings, scene))
     properties.check_output_folder(output_dir)
     state = values.sequence_folder_state(output_dir)
     if state == "still":
@@ -113,7 +113,7 @@ def prepare(context):
             raise ValueError("The output folder {} holds frames painted from other footage than scene {}'s frames "
                              "{} to {}: choose another folder.".format(output_dir, scene.name, frames.numbers[0],
                                                                       frames.numbers[-1]))
-    return AnimationJob(scene, inputs, frames, output_dir, params, sequence_settings, key)
+    return ShotJob(scene, inputs, frames, output_dir, params, sequence_settings, key)
 
 
 def _rendered_names(paths):

@@ -12,7 +12,7 @@ else optical flow as the painter computes it (``SEQUENCE_MEGAPIXELS``),
 scaled to the film's size; only pixels visible in both frames count.
 
 Frames are float32 (h, w, 3) sRGB in [0, 1]; motions float32 (h, w, 2) in
-film pixels, x right, y down. ``run_animation`` writes paper/, side_by_side/
+film pixels, x right, y down. ``run_film`` writes paper/, side_by_side/
 (footage | relit | paper, one PNG a frame), animation.gif, animation.json
 and animation.md.
 """
@@ -199,7 +199,7 @@ def film_figures(errors: Dict[str, List[float]], pairs: List[int]) -> dict:
     return figures
 
 
-def run_animation(painted_dir, relit_dir, out_dir, azimuth_deg: float, elevation_deg: float,
+def run_film(painted_dir, relit_dir, out_dir, azimuth_deg: float, elevation_deg: float,
                   render: Optional[dict] = None, progress: ProgressFn = None) -> dict:
     """Light the painted sequence in 2-D, measure it against the relit film and the footage; write the files.
 

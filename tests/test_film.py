@@ -4,7 +4,7 @@
 The script runs in subprocesses with the bpy module (BLENDER_USER_RESOURCES
 in a temporary folder); the saved scene.blend is opened again by
 tests/blender/blend_checks.py. The figures of animation.json are recomputed
-from the written frames by tests/test_animation_figures.py's kind of check
+from the written frames by tests/test_film_figures.py's kind of check
 in core; here the whole run, its files, its scene and its refusals.
 """
 
@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 from tiny_shot import FIRST, FRAMES, shot
 
-from core.evaluation.animation import read_relit
+from core.evaluation.film import read_relit
 from core.files import reading
 
 REPO = Path(__file__).resolve().parent.parent

@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Run Paint Animation inside Blender (the bpy module) and print what it did, for tests/test_animation.py.
+"""Run Paint Animation inside Blender (the bpy module) and print what it did, for tests/test_paint_shot.py.
 
 Run in its own process (``bpy`` can be imported once per process), with
 ``BLENDER_USER_RESOURCES`` pointing at a throw-away folder::
 
-    BLENDER_USER_RESOURCES=/tmp/x python tests/blender/animation_checks.py WORK_DIR
+    BLENDER_USER_RESOURCES=/tmp/x python tests/blender/paint_shot_checks.py WORK_DIR
 
 The repository is loaded as the package ``paint_relief`` and registered as
 Blender would. The scene is tiny (64 x 48 px, 4 frames, Cycles at 2 samples):
@@ -259,7 +259,7 @@ def run_op(op, **kwargs):
 def main(work):
     bpy = load_extension(work)
     from paint_relief.addon import dependencies
-    from paint_relief.addon.painting import animation_source, jobs, ops_animation, scene_render
+    from paint_relief.addon.painting import jobs, ops_paint_shot, scene_render, shot_source
 
     ops = bpy.ops.paint_relief
     try:
@@ -346,14 +346,14 @@ def main(work):
         bpy.ops.wm.save_as_mainfile(filepath=os.path.join(work, "shot.blend"))
         before = settings_snapshot(scene)
 
-        first = ModalDriver(bpy, ops_animation)
+        first = ModalDriver(bpy, ops_paint_shot)
         first.run(stop_when=lambda: first.rendered_frames() == 2)
         folder = settings.animation_dir
         after_render_stop = {"outcome": first.outcome, "reports": first.reports, "texts": first.shown(),
                              "progress": first.progress, "differences": differences(before, settings_snapshot(scene)),
                              "files": folder_files(folder), "running": jobs.is_running(scene)}
 
-        second = ModalDriver(bpy, ops_animation)
+        second = ModalDriver(bpy, ops_paint_shot)
         second.run(stop_when=lambda: any(text and "Frame 3 (3/4)" in text for text in second.texts))
         report = json.load(open(os.path.join(folder, "report.json")))
         after_paint_stop = {"outcome": second.outcome, "reports": second.reports, "folder": settings.animation_dir,
@@ -361,7 +361,7 @@ def main(work):
                             "first_frame": report["per_frame"][0], "texts": second.shown(),
                             "running": jobs.is_running(scene)}
 
-        third = ModalDriver(bpy, ops_animation)
+        third = ModalDriver(bpy, ops_paint_shot)
         third.run()
         folder_again = settings.animation_dir
         resumed = json.load(open(os.path.join(folder, "report.json")))
@@ -396,19 +396,19 @@ def main(work):
         write_frame(bpy, os.path.join(takes, "take_001_mask.png"), 9)
         sequence = bpy.data.images.load(os.path.join(frames, "shot_0005.png"))
         sequence.source = "SEQUENCE"
-        found = {"no_user": [os.path.basename(p) for p in animation_source.image_sequence_files(sequence)]}
+        found = {"no_user": [os.path.basename(p) for p in shot_source.image_sequence_files(sequence)]}
         node_tree = bpy.data.materials["Wall"].node_tree
         texture = node_tree.nodes.new("ShaderNodeTexImage")
         texture.image = sequence
         texture.image_user.frame_offset = 3   # files 4 .. 7
         texture.image_user.frame_duration = 4
-        found["user_4_to_7"] = [os.path.basename(p) for p in animation_source.image_sequence_files(sequence)]
+        found["user_4_to_7"] = [os.path.basename(p) for p in shot_source.image_sequence_files(sequence)]
         texture.image_user.frame_offset = 2   # files 3 .. 102: the sequence ends with its last file, 8
         texture.image_user.frame_duration = 100
-        found["user_3_to_102"] = [os.path.basename(p) for p in animation_source.image_sequence_files(sequence)]
+        found["user_3_to_102"] = [os.path.basename(p) for p in shot_source.image_sequence_files(sequence)]
         texture.image_user.frame_offset = 40  # no file 41: the image's own file starts the sequence
         texture.image_user.frame_duration = 2
-        found["user_41_to_42"] = [os.path.basename(p) for p in animation_source.image_sequence_files(sequence)]
+        found["user_41_to_42"] = [os.path.basename(p) for p in shot_source.image_sequence_files(sequence)]
         node_tree.nodes.remove(texture)
         if not painter:
             return found
@@ -453,7 +453,7 @@ def main(work):
             "no_camera": ("SCENE", None, None),
         }
         # An output folder inside the extension's own folder (here the checkout the package links to).
-        package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(ops_animation.__file__))))
+        package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(ops_paint_shot.__file__))))
         inside = os.path.join(package, "painted_inside_the_extension")
         cases["output_inside_the_extension"] = ("FOLDER", "animation_folder", os.path.join(work, "frames"))
         # Output folders holding something else (their report.json says what): a still painting, the scene
@@ -575,10 +575,10 @@ class ModalDriver:
     ``stop_when()`` first turns True) and a window manager and workspace that record the progress bar and
     the status text."""
 
-    def __init__(self, bpy, ops_animation):
-        names = [name for name in vars(ops_animation.PAINT_RELIEF_OT_paint_animation)
+    def __init__(self, bpy, ops_paint_shot):
+        names = [name for name in vars(ops_paint_shot.PAINT_RELIEF_OT_paint_animation)
                  if not name.startswith(("__", "bl_"))]
-        self.operator = type("Operator", (), {name: vars(ops_animation.PAINT_RELIEF_OT_paint_animation)[name]
+        self.operator = type("Operator", (), {name: vars(ops_paint_shot.PAINT_RELIEF_OT_paint_animation)[name]
                                               for name in names})()
         self.reports, self.texts, self.progress = [], [], []
         self.operator.report = lambda level, text: self.reports.append([sorted(level)[0], text])

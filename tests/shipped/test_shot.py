@@ -1,5 +1,5 @@
-"""The animation flow from the installed zip: the scene's 4-frame animation painted, the animated canvas, two
-Cycles frames, the ``animate`` command (tests/shipped/animation.py), on every Blender `make test-shipped` builds."""
+"""The shot flow from the installed zip: the scene's 4-frame animation painted, the animated canvas, two
+Cycles frames, the ``animate`` command (tests/shipped/shot.py), on every Blender `make test-shipped` builds."""
 
 import pytest
 from conftest import run_script
@@ -9,31 +9,31 @@ NAMES = ["{:04d}.png".format(n) for n in range(FIRST, FIRST + FRAMES)]
 
 
 @pytest.fixture(scope="module")
-def animation(package_zip, tmp_path_factory):
-    work = tmp_path_factory.mktemp("animation")
-    run, results = run_script("animation.py", package_zip, work, user_dir=work / "blender_user", cwd=work)
-    assert results, "animation.py printed no results:\n{}\n{}".format(run.stdout[-3000:], run.stderr[-3000:])
+def shot(package_zip, tmp_path_factory):
+    work = tmp_path_factory.mktemp("shot")
+    run, results = run_script("shot.py", package_zip, work, user_dir=work / "blender_user", cwd=work)
+    assert results, "shot.py printed no results:\n{}\n{}".format(run.stdout[-3000:], run.stderr[-3000:])
     return results
 
 
-def _step(animation, name):
-    found = animation[name]
+def _step(shot, name):
+    found = shot[name]
     assert "exception" not in found, found.get("exception")
     return found
 
 
-def test_paint_animation_paints_the_scenes_animation(animation):
-    assert animation["install"]["result"] == ["FINISHED"] and animation["install"]["enabled"]
-    assert animation["libraries"]["problem"] is None
-    found = _step(animation, "paint_the_scenes_animation")
+def test_paint_animation_paints_the_scenes_animation(shot):
+    assert shot["install"]["result"] == ["FINISHED"] and shot["install"]["enabled"]
+    assert shot["libraries"]["problem"] is None
+    found = _step(shot, "paint_the_scenes_animation")
     assert found["result"] == ["FINISHED"], found["error"]
     assert found["frames"] == list(range(FIRST, FIRST + FRAMES)) and found["motion"] == "vector pass"
     assert found["files"] == ["height_{:04d}.exr".format(n) for n in range(FIRST, FIRST + FRAMES)]
     assert found["painting_dir"].endswith("scene_painted")
 
 
-def test_the_animated_canvas_follows_the_frame(animation):
-    found = _step(animation, "animated_canvas")
+def test_the_animated_canvas_follows_the_frame(shot):
+    found = _step(shot, "animated_canvas")
     assert found["result"] == ["FINISHED"], found["error"]
     assert found["frame_range"] == [FIRST, FIRST + FRAMES - 1]
     # Colour, height and opacity nodes and the Displace modifier's texture: image sequences shown frame by frame.
@@ -45,15 +45,15 @@ def test_the_animated_canvas_follows_the_frame(animation):
     assert found["same_frame_again"] == 0.0
 
 
-def test_two_frames_render_with_cycles(animation):
-    found = _step(animation, "two_cycles_frames")
+def test_two_frames_render_with_cycles(shot):
+    found = _step(shot, "two_cycles_frames")
     assert all(result == ["FINISHED"] for result, _ in found["results"]), found["results"]
     assert found["shape"] == [48, 64, 3] and min(found["std"]) > 0.02
     assert found["difference"] > 0.01, "the two rendered frames are the same"
 
 
-def test_the_animate_command(animation):
-    found = _step(animation, "animate_command")
+def test_the_animate_command(shot):
+    found = _step(shot, "animate_command")
     assert (found["code"], found["bad"]) == (0, 1)
     assert found["relit"] == NAMES and found["paper"] == NAMES
     assert {"animation.gif", "animation.json", "animation.md", "scene.blend"} <= set(found["files"])

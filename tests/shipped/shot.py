@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The animation flow from the installed zip: the scene's animation painted, its animated canvas, two Cycles frames,
+"""The shot flow from the installed zip: the scene's animation painted, its animated canvas, two Cycles frames,
 and the ``animate`` command.
 
 Run in its own process with BLENDER_USER_RESOURCES set to a throw-away folder::
 
-    BLENDER_USER_RESOURCES=/tmp/u python tests/shipped/animation.py PACKAGE.zip WORK_DIR
+    BLENDER_USER_RESOURCES=/tmp/u python tests/shipped/shot.py PACKAGE.zip WORK_DIR
 
 Blender installs the zip as *Install from Disk* does; nothing of the checkout
 is imported. A tiny animated scene (frames 11 to 14: a checkered ball
@@ -13,7 +13,7 @@ from the scene's own renders; Build Canvas makes the animated canvas; the
 evaluated relief is read at two frames; frames 11 and 14 are rendered with
 Cycles through the extension's film renderer; ``cli_command.execute(["animate",
 ...])`` runs the whole film on a tiny shot of PNG frames.
-The last line printed is ``RESULTS <json>``, which test_animation.py asserts on.
+The last line printed is ``RESULTS <json>``, which test_shot.py asserts on.
 """
 
 import json
@@ -101,7 +101,7 @@ def main(zip_path, work):
     writing = import_module(MODULE + ".core.files.writing")
     reading = import_module(MODULE + ".core.files.reading")
     animated = import_module(MODULE + ".addon.scene.animated")
-    film = import_module(MODULE + ".addon.animation.film")
+    film = import_module(MODULE + ".addon.film.relit")
     compare = import_module(MODULE + ".addon.comparison.compare")
     cli_command = import_module(MODULE + ".addon.cli_command")
     ops = bpy.ops.paint_relief
