@@ -3,7 +3,9 @@
 folder_bytes and same_bytes: "every output file the same bytes", the one
 check behind every determinism, resume and farm test. one_sentence and
 one_sentence_run: "bad input is one sentence", for a message and for a
-command that ran.
+command that ran. map_bytes, same_maps and same_painting: the same
+check for paintings and canvases held in memory, map by map (and stroke by
+stroke).
 
 cut_costs and best_cut: Eq. 2 for one grid at a time (ALGORITHM §2), the
 simple reference that core.analysis.partition.partition, which cuts a whole
@@ -57,6 +59,36 @@ def one_sentence_run(run) -> str:
     assert run.returncode != 0, run.stderr
     assert len(lines) == 1, run.stderr
     return one_sentence(lines[0])
+
+
+MAPS = ("colour", "height", "opacity", "coverage")
+"""The maps of a Painting or a Canvas that its strokes make."""
+
+
+def map_bytes(painting, names: Iterable[str] = MAPS) -> Dict[str, bytes]:
+    """{map name: bytes} of the maps ``names`` of ``painting`` (a Painting, a Canvas or anything with those
+    arrays as attributes)."""
+    return {name: np.ascontiguousarray(getattr(painting, name)).tobytes() for name in names}
+
+
+def same_maps(painting, other, names: Iterable[str] = MAPS) -> None:
+    """Assert that ``painting`` and ``other`` hold the maps ``names`` with the same shapes, types and bytes; the
+    message names the maps that differ."""
+    names = tuple(names)
+    differ = [name for name in names
+              if (getattr(painting, name).shape, getattr(painting, name).dtype) != (getattr(other, name).shape,
+                                                                                     getattr(other, name).dtype)]
+    mine, theirs = map_bytes(painting, names), map_bytes(other, names)
+    differ += [name for name in names if name not in differ and mine[name] != theirs[name]]
+    assert not differ, f"the maps {differ} differ"
+
+
+def same_painting(painting, other) -> None:
+    """Assert that two Paintings are the same to the byte: every map (``same_maps``), every stroke's record in
+    order and the strokes per layer."""
+    same_maps(painting, other)
+    assert [s.to_dict() for s in painting.strokes] == [s.to_dict() for s in other.strokes], "the strokes differ"
+    assert painting.statistics["strokes_per_layer"] == other.statistics["strokes_per_layer"], "strokes per layer"
 
 
 def _check_rect(sat: np.ndarray, rect) -> Tuple[int, int, int, int]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import OpenImageIO as oiio
 import pytest
+from oracles import one_sentence
 
 from core.errors import InputError, PaintReliefError, ParameterError
 from core.strokes.brush import (
@@ -31,11 +32,6 @@ def write_png(path, pixels: np.ndarray) -> None:
     assert out is not None and out.open(str(path), spec), oiio.geterror()
     assert out.write_image(quantised)
     out.close()
-
-
-def one_sentence(message: str) -> bool:
-    """True when the message is one sentence ending with a full stop."""
-    return message.endswith(".") and "\n" not in message
 
 
 # ---------------------------------------------------------------------------
@@ -174,7 +170,7 @@ def test_load_black_png_raises_naming_file(tmp_path):
         load_brush(str(path))
     message = str(info.value)
     assert "black.png" in message and "no bristles" in message
-    assert one_sentence(message)
+    assert one_sentence(message) == message
 
 
 def test_load_unreadable_file_raises(tmp_path):
@@ -183,7 +179,7 @@ def test_load_unreadable_file_raises(tmp_path):
     with pytest.raises(InputError) as info:
         load_brush(str(path))
     assert "notes.png" in str(info.value)
-    assert one_sentence(str(info.value))
+    assert one_sentence(str(info.value)) == str(info.value)
 
 
 def test_load_too_large_raises(tmp_path):
@@ -200,7 +196,7 @@ def test_load_unknown_name_raises_naming_it(spec):
     message = str(info.value)
     assert repr(spec) in message
     assert "neither a shipped brush (flat, round, filbert)" in message
-    assert one_sentence(message)
+    assert one_sentence(message) == message
 
 
 # ---------------------------------------------------------------------------

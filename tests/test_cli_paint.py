@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+from oracles import one_sentence, same_bytes
 
 from core.cli import main
 from core.colour import srgb_to_linear
@@ -75,8 +76,7 @@ def test_report_and_strokes(painted):
 def test_same_seed_same_bytes(photo, painted, tmp_path):
     again = tmp_path / "again"
     assert main(["paint", str(photo), "-o", str(again), "-q", "--seed", "3"]) == 0
-    for name in ("color.exr", "height.exr", "opacity.exr", "painting.png", "strokes.json"):
-        assert (again / name).read_bytes() == (painted / name).read_bytes(), name
+    assert set(same_bytes(again, painted)) == OUTPUTS - {"report.json"}
 
 
 def test_other_seed_other_painting(photo, painted, tmp_path):
@@ -103,8 +103,7 @@ def test_accumulate_mode_is_recorded(photo, tmp_path):
 def test_invalid_parameters(photo, tmp_path, capsys, options, words):
     out = tmp_path / "out"
     assert main(["paint", str(photo), "-o", str(out), "-q"] + options) != 0
-    err = capsys.readouterr().err.strip()
-    assert words in err and err.endswith(".") and "\n" not in err
+    assert words in one_sentence(capsys.readouterr().err)
     assert not out.exists() or list(out.iterdir()) == []
 
 
@@ -116,5 +115,4 @@ def test_bad_brush_png(photo, tmp_path, capsys, kind):
     else:
         brush.write_text("no image here")
     assert main(["paint", str(photo), "-o", str(tmp_path / "out"), "-q", "--brush", str(brush)]) != 0
-    err = capsys.readouterr().err.strip()
-    assert "brush.png" in err and err.endswith(".")
+    assert "brush.png" in one_sentence(capsys.readouterr().err)

@@ -16,6 +16,7 @@ import one_by_one
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from oracles import same_maps, same_painting
 
 from core.methods import huang11
 from core.params import Params
@@ -40,13 +41,6 @@ def photo(seed: int, h: int, w: int, kind: str) -> np.ndarray:
             cy, cx, r = rng.uniform(0, h), rng.uniform(0, w), rng.uniform(2, 8)
             image[(np.mgrid[0:h, 0:w][0] - cy) ** 2 + (np.mgrid[0:h, 0:w][1] - cx) ** 2 < r * r] = rng.uniform(0, 1, 3)
     return np.clip(image, 0, 1).astype(np.float32)
-
-
-def same_painting(a, b) -> None:
-    for name in ("colour", "height", "opacity", "coverage"):
-        assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), name
-    assert [s.to_dict() for s in a.strokes] == [s.to_dict() for s in b.strokes]
-    assert a.statistics["strokes_per_layer"] == b.statistics["strokes_per_layer"]
 
 
 PAINTINGS = dict(seed=st.integers(0, 2 ** 32 - 1), h=st.integers(12, 56), w=st.integers(12, 56),
@@ -105,8 +99,7 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
         together.lay(both(first, second), "accumulate", 0.5)
         one_by_one.lay_one(apart, first, 0, "accumulate", 0.5)
         one_by_one.lay_one(apart, second, 0, "accumulate", 0.5)
-        for name in ("colour", "height", "opacity", "coverage"):
-            assert getattr(together, name).tobytes() == getattr(apart, name).tobytes()
+        same_maps(together, apart)
     # the shared pixel (3, 3) shows the later stroke on top
     canvas = Canvas.blank((6, 6), (0.9, 0.9, 0.9))
     canvas.lay(both(red, blue), "over", 0.5)
@@ -119,8 +112,7 @@ def test_laying_a_round_in_passes_equals_laying_stroke_after_stroke():
         for footprint, laid in zip((red, blue), keep, strict=True):
             if laid:
                 one_by_one.lay_one(alone, footprint, 0, "accumulate", 0.5)
-        for name in ("colour", "height", "opacity", "coverage"):
-            assert getattr(kept, name).tobytes() == getattr(alone, name).tobytes()
+        same_maps(kept, alone)
 
 
 def test_a_canvas_of_arrays_that_are_not_contiguous_is_refused_rather_than_laid_on_a_copy():

@@ -12,6 +12,7 @@ import pathlib
 import numpy as np
 import OpenImageIO as oiio
 import pytest
+from oracles import one_sentence
 from scipy import ndimage
 from stamp_oracle import box_footprint, stroke_footprint
 from stamp_oracle import paint_one as engine_one
@@ -49,11 +50,6 @@ def write_png(path, pixels: np.ndarray) -> None:
     assert out is not None and out.open(str(path), spec), oiio.geterror()
     assert out.write_image(np.ascontiguousarray(data))
     out.close()
-
-
-def one_sentence(message: str) -> bool:
-    """One sentence: ends with a full stop, no line break."""
-    return message.endswith(".") and "\n" not in message and len(message) > 10
 
 
 @pytest.fixture(scope="module")
@@ -515,7 +511,8 @@ def test_degenerate_images(image):
 def test_invalid_parameters(changes):
     with pytest.raises(ParameterError) as info:
         paint(gradient(16, 16), Params(**changes))
-    assert one_sentence(str(info.value))
+    message = str(info.value)
+    assert one_sentence(message) == message and len(message) > 10
 
 
 def test_bad_brush_files(tmp_path):
@@ -527,7 +524,8 @@ def test_bad_brush_files(tmp_path):
         with pytest.raises(PaintReliefError) as info:
             paint(gradient(16, 16), Params(brush=str(path)))
         assert type(info.value) is not PaintReliefError
-        assert one_sentence(str(info.value))
+        message = str(info.value)
+        assert one_sentence(message) == message and len(message) > 10
     # control: a good brush file paints
     good = tmp_path / "good.png"
     write_png(good, np.full((6, 18), 0.8))

@@ -4,7 +4,8 @@ import threading
 
 import numpy as np
 import pytest
-from test_rounds import photo, same_painting
+from oracles import same_painting
+from test_rounds import photo
 
 from core import tuning, workers
 from core.methods import huang11
