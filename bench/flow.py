@@ -4,7 +4,7 @@ The render is a folder of multilayer EXR frames with the Vector pass, as
 sample_scenes/sequence_scene.py writes them (frame_0001.exr, ...). For each
 pair of consecutive frames t, t+1 the true forward motion is (−Z, +W) of frame
 t's Vector part and the true backward motion (X, −Y) of frame t+1's
-(DESIGN.md, "Facts for sequences"); the frames are the Combined part turned to
+(ALGORITHM §9, "Motion"); the frames are the Combined part turned to
 sRGB (clipped to [0, 1]). Pixels are scored where the true motion passes the
 forward-backward check of ALGORITHM §9 (visible in both frames, not on a
 motion boundary, landing inside the frame). Per candidate, averaged over the

@@ -1,4 +1,4 @@
-"""Blender's Vector pass -> forward and backward motion in image axes (ALGORITHM §9, DESIGN "Facts for sequences").
+"""Blender's Vector pass -> forward and backward motion in image axes (ALGORITHM §9, "Motion").
 
 Blender writes, per pixel of frame t, the motion to the previous frame in
 channels X, Y and the motion to the next frame in Z, W, in pixels and in its
