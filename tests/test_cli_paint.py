@@ -17,15 +17,10 @@ REPORT_KEYS = {"strokes", "strokes_per_layer", "grids", "psnr_db", "seconds", "p
 
 
 @pytest.fixture(scope="module")
-def photo(tmp_path_factory):
+def photo(tmp_path_factory, half_textured):
     """A 48 x 64 photograph-like image: a smooth gradient beside coloured texture."""
-    rng = np.random.default_rng(5)
-    image = np.zeros((48, 64, 3), np.float32)
-    image[..., 0] = np.linspace(0.1, 0.9, 64)[None, :]
-    image[..., 1] = 0.4
-    image[:, 32:] = rng.random((48, 32, 3))
     path = tmp_path_factory.mktemp("input") / "photo.png"
-    writing.write_png(path, image)
+    writing.write_png(path, half_textured(48, 64))
     return path
 
 

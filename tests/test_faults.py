@@ -88,20 +88,11 @@ def assert_untouched_or_complete(folder: Path, before: dict):
 
 # --- fixtures -----------------------------------------------------------------------------------------------------
 
-def photo_array(h=32, w=40, seed=5):
-    rng = np.random.default_rng(seed)
-    image = np.zeros((h, w, 3), np.float32)
-    image[..., 0] = np.linspace(0.1, 0.9, w)[None, :]
-    image[..., 1] = 0.4
-    image[:, w // 2:] = rng.random((h, w - w // 2, 3))
-    return image
-
-
 @pytest.fixture(scope="module")
-def inputs(tmp_path_factory):
+def inputs(tmp_path_factory, half_textured):
     """Good and bad input files, by name."""
     d = tmp_path_factory.mktemp("inputs")
-    image = photo_array()
+    image = half_textured()
     writing.write_png(d / "photo.png", image)
     writing.write_exr(d / "photo.exr", image)
     writing.write_png(d / "photo16.png", image, bits=16)
@@ -129,7 +120,7 @@ def inputs(tmp_path_factory):
     _bomb_png(d / "bomb.png", 7000, 7000)
     other = d / "other"
     other.mkdir()
-    writing.write_png(other / "photo.png", photo_array(seed=9))
+    writing.write_png(other / "photo.png", half_textured(seed=9))
     return d
 
 
@@ -280,11 +271,11 @@ def test_stroke_wider_than_the_image_is_refused(inputs, tmp_path, capfd):
     assert not (tmp_path / "o").exists()
 
 
-def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd):
+def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd, half_textured):
     """--sizes are px at 1 megapixel: 900 becomes a 75 px brush on a 96 x 72 image, taller than the image."""
     out, before = folder
     small = out.parent / "small.png"
-    writing.write_png(small, photo_array(72, 96))
+    writing.write_png(small, half_textured(72, 96))
     t0 = time.monotonic()
     assert main(["paint", str(small), "-o", str(out), "-q", "--sizes", "900,64"]) == 2
     assert time.monotonic() - t0 < 1.0
@@ -388,8 +379,8 @@ def _apng(path: Path, frames):
 
 
 @pytest.mark.parametrize("name, pages", [("photo.tif", 3), ("photo_parts.exr", 2), ("animated.png", 3)])
-def test_an_input_of_several_images_paints_the_first_and_says_so(inputs, tmp_path, name, pages):
-    first = photo_array()
+def test_an_input_of_several_images_paints_the_first_and_says_so(inputs, tmp_path, name, pages, half_textured):
+    first = half_textured()
     others = [np.full_like(first, 0.1 * (i + 1)) for i in range(pages - 1)]
     source = tmp_path / name
     if name.endswith(".png"):

@@ -223,15 +223,10 @@ def test_light_dispatches_with_defaults():
 
 
 @pytest.fixture(scope="module")
-def painted(tmp_path_factory):
+def painted(tmp_path_factory, half_textured):
     """A folder written by ``python -m core paint`` for a small photograph-like image."""
-    rng = np.random.default_rng(7)
-    image = np.zeros((40, 56, 3), np.float32)
-    image[..., 0] = np.linspace(0.1, 0.9, 56)[None, :]
-    image[..., 2] = 0.5
-    image[:, 28:] = rng.random((40, 28, 3))
     source = tmp_path_factory.mktemp("input") / "small.png"
-    writing.write_png(source, image)
+    writing.write_png(source, half_textured(40, 56, seed=7))
     out = tmp_path_factory.mktemp("painted")
     assert main(["paint", str(source), "-o", str(out), "-q"]) == 0
     return out

@@ -134,6 +134,13 @@ def brute_costs(energy, rect, min_side, delta, gamma):
 size_lists = st.lists(st.integers(1, 40), min_size=1, max_size=5)
 
 
+def canvases(most: int) -> dict:
+    """Hypothesis strategies of whole canvases to partition: an ``energy_map`` (seed, h, w, kind) up to ``most`` px
+    a side, its stroke sizes and the detail that sets its threshold."""
+    return dict(seed=st.integers(0, 10_000), h=st.integers(1, most), w=st.integers(1, most), sizes=size_lists,
+                kind=st.sampled_from(["uniform", "dyadic", "sparse"]), detail=st.floats(0.0, 1.0))
+
+
 # ---------------------------------------------------------------------------
 # summed-area table and single-grid costs
 
@@ -234,14 +241,7 @@ def test_best_cut_equals_brute_force(seed, h, w, min_side, kind, gamma, delta, d
 
 
 @settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(
-    seed=st.integers(0, 10_000),
-    h=st.integers(1, 120),
-    w=st.integers(1, 120),
-    sizes=size_lists,
-    kind=st.sampled_from(["uniform", "dyadic", "sparse"]),
-    detail=st.floats(0.0, 1.0),
-)
+@given(**canvases(120))
 def test_tiling_and_size_rules(seed, h, w, sizes, kind, detail):
     e = energy_map(seed, h, w, kind)
     t_e = detail_threshold(e, detail, sizes)
@@ -270,15 +270,7 @@ def test_tiling_and_size_rules(seed, h, w, sizes, kind, detail):
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(
-    seed=st.integers(0, 10_000),
-    h=st.integers(1, 90),
-    w=st.integers(1, 90),
-    sizes=size_lists,
-    kind=st.sampled_from(["uniform", "dyadic", "sparse"]),
-    detail=st.floats(0.0, 1.0),
-    gamma=st.sampled_from([1.0, 0.5, 2.0]),
-)
+@given(**canvases(90), gamma=st.sampled_from([1.0, 0.5, 2.0]))
 def test_vectorised_equals_recursive_best_cut(seed, h, w, sizes, kind, detail, gamma):
     e = energy_map(seed, h, w, kind)
     t_e = detail_threshold(e, detail, sizes)
