@@ -15,7 +15,11 @@ import zipfile
 from pathlib import Path
 
 import pytest
+from oracles import same_bytes
 
+from core.api import paint_file
+from core.files import writing
+from core.params import Params
 from core.version import __version__
 
 REPO = Path(__file__).resolve().parent.parent
@@ -90,7 +94,8 @@ def test_wheel_declares_the_painters_dependencies_and_the_farm_extra(wheel):
     assert len(farm) == 1 and farm[0].startswith("dask[diagnostics,distributed]>="), requires
 
 
-def test_installed_wheel_runs_outside_the_repository(wheel, tmp_path):
+def test_installed_wheel_runs_outside_the_repository_and_paints_the_repositorys_bytes(wheel, tmp_path,
+                                                                                      half_textured):
     site = tmp_path / "site"
     run = subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "--no-index", "--quiet",
                           "--disable-pip-version-check", "--target", str(site), str(wheel)],
@@ -106,3 +111,11 @@ def test_installed_wheel_runs_outside_the_repository(wheel, tmp_path):
     helped = subprocess.run([sys.executable, "-m", "core", "--help"], capture_output=True, text=True, cwd=tmp_path,
                             env=env, timeout=60)
     assert helped.returncode == 0 and "paint" in helped.stdout, helped.stderr
+    # a machine of a farm paints with the installed painter: the same files, byte for byte, as this source tree's
+    photo = tmp_path / "photo.png"
+    writing.write_png(photo, half_textured())
+    painted = subprocess.run([sys.executable, "-m", "core", "paint", str(photo), "-o", str(tmp_path / "installed"),
+                              "-q", "--seed", "2"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120)
+    assert painted.returncode == 0, painted.stderr
+    paint_file(photo, tmp_path / "here", Params(seed=2))
+    same_bytes(tmp_path / "installed", tmp_path / "here")
