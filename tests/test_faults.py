@@ -86,6 +86,17 @@ def assert_untouched_or_complete(folder: Path, before: dict):
     assert hidden_leftovers(folder) == []
 
 
+def refuse_to_read_or_paint(monkeypatch, read: bool = True) -> None:
+    """Make reading an image's pixels (when ``read``) and painting fail the test: a refusal must come before."""
+    import core.methods.registry
+
+    def started(*args, **kwargs):
+        raise AssertionError("an image's pixels were read or painting started")
+    monkeypatch.setattr(core.methods.registry, "paint", started)
+    if read:
+        monkeypatch.setattr(reading, "read_image", started)
+
+
 # --- fixtures -----------------------------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
@@ -176,11 +187,12 @@ def test_bad_input_is_one_sentence_and_changes_nothing(inputs, folder, name, wor
     assert snapshot(out) == before
 
 
-def test_bomb_is_refused_in_seconds(inputs, tmp_path):
-    t0 = time.monotonic()
-    run = run_cli(["paint", inputs / "bomb.png", "-o", tmp_path / "new", "-q"])
-    assert time.monotonic() - t0 < 10
-    assert run.returncode == 2 and not (tmp_path / "new").exists()
+def test_bomb_is_refused_from_its_header(inputs, tmp_path, monkeypatch, capfd):
+    """A 7000 x 7000 PNG of a few kilobytes is refused before any pixel of it is decoded."""
+    refuse_to_read_or_paint(monkeypatch)
+    assert main(["paint", str(inputs / "bomb.png"), "-o", str(tmp_path / "new"), "-q"]) == 2
+    assert_one_sentence(capfd.readouterr().err, "bomb.png")
+    assert not (tmp_path / "new").exists()
 
 
 @pytest.mark.parametrize("options, words", [
@@ -203,15 +215,14 @@ def test_bomb_is_refused_in_seconds(inputs, tmp_path):
     (["--layers", "99"], ["Layers"]),
     (["--sizes", "64,8,8"], ["--sizes", "once", "8", "64,8,8"]),
 ])
-def test_bad_numbers_are_one_sentence_and_change_nothing(inputs, folder, capfd, options, words):
+def test_bad_numbers_are_one_sentence_and_change_nothing(inputs, folder, capfd, monkeypatch, options, words):
     out, before = folder
     options = [str(inputs / "truncated_photo.png") if o == "TRUNCATED" else o for o in options]
-    t0 = time.monotonic()
+    refuse_to_read_or_paint(monkeypatch, read=False)
     try:
         status = main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "2"] + options)
     except SystemExit as exc:  # options the argument parser itself refuses
         status = exc.code
-    assert time.monotonic() - t0 < 1.0
     assert status == 2
     assert_one_sentence(capfd.readouterr().err, *words)
     assert snapshot(out) == before
@@ -257,10 +268,8 @@ def test_experiments_refuse_an_image_given_twice(inputs, tmp_path, capfd):
     assert not (tmp_path / "out").exists()
 
 
-def test_sizes_100000_refused_within_a_second_on_the_command_line(inputs, tmp_path):
-    t0 = time.monotonic()
+def test_sizes_100000_refused_on_the_command_line(inputs, tmp_path):
     run = run_cli(["paint", inputs / "photo.png", "-o", tmp_path / "new", "--sizes", "100000"])
-    assert time.monotonic() - t0 < 5  # includes starting Python and importing NumPy
     assert run.returncode == 2 and not (tmp_path / "new").exists()
     assert_one_sentence(run.stderr, "1024")
 
@@ -271,14 +280,13 @@ def test_stroke_wider_than_the_image_is_refused(inputs, tmp_path, capfd):
     assert not (tmp_path / "o").exists()
 
 
-def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd, half_textured):
+def test_sizes_larger_than_the_image_are_refused_naming_the_option(folder, capfd, monkeypatch, half_textured):
     """--sizes are px at 1 megapixel: 900 becomes a 75 px brush on a 96 x 72 image, taller than the image."""
     out, before = folder
     small = out.parent / "small.png"
     writing.write_png(small, half_textured(72, 96))
-    t0 = time.monotonic()
+    refuse_to_read_or_paint(monkeypatch)
     assert main(["paint", str(small), "-o", str(out), "-q", "--sizes", "900,64"]) == 2
-    assert time.monotonic() - t0 < 1.0
     assert_one_sentence(capfd.readouterr().err, "stroke size 900", "--sizes", "75 px", "96 x 72", "72 px side",
                         "up to 872")
     assert snapshot(out) == before
@@ -537,25 +545,18 @@ def photo_16mp(tmp_path_factory):
     return path
 
 
-def test_no_space_is_refused_within_a_second_before_painting(photo_16mp, tmp_path, monkeypatch, capfd):
+def test_no_space_is_refused_before_any_pixel_is_read(photo_16mp, tmp_path, monkeypatch, capfd):
     """A 16 MP photograph into a nearly full 2 MB disk: refused from its header, before any pixel is read."""
-    import core.methods.registry
-
-    def painted(*args, **kwargs):
-        raise AssertionError("painting started")
-    monkeypatch.setattr(core.methods.registry, "paint", painted)
+    refuse_to_read_or_paint(monkeypatch)
     with small_disk(tmp_path / "disk", "2M") as disk:
         (disk / "big.bin").write_bytes(bytes(1_500_000))
         out = disk / "out"
         out.mkdir()
         (out / "notes.txt").write_text("the user's own file\n")
         before = snapshot(disk)
-        t0 = time.monotonic()
         status = main(["paint", str(photo_16mp), "-o", str(out), "-q", "--max-memory", "100G"])
-        elapsed = time.monotonic() - t0
         err = capfd.readouterr().err
         assert snapshot(disk) == before
-    assert elapsed < 1.0, elapsed
     assert status == 2
     assert_one_sentence(err, "not enough space is left on the device", "KB free", "needs at least 46 MB",
                         "4000 x 4000")
