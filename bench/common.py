@@ -1,7 +1,8 @@
-"""Shared helpers of the benchmarks: test images of a given size, medians, peak memory."""
+"""Shared helpers of the benchmarks: test images of a given size, medians, peak memory, file digests."""
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import statistics
@@ -10,7 +11,7 @@ import sys
 import time
 import tracemalloc
 from pathlib import Path
-from typing import Callable, Dict, List, Sequence
+from typing import Callable, Dict, Iterable, List, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -72,3 +73,11 @@ def run_child(command: Sequence[str], what: str, quiet: bool = False) -> tuple:
         last = err.strip().splitlines()[-1] if err.strip() else "no message"
         raise SystemExit(f"{what} failed with exit code {code}: {last}")
     return seconds, usage.ru_maxrss / 1024.0  # KiB on Linux
+
+
+def file_digests(folder: Path, suffixes: Iterable[str]) -> Dict[str, str]:
+    """{file name: SHA-256 hex} of the files in ``folder`` (not its subfolders) whose names end in one of
+    ``suffixes`` (".png", ".exr", ...)."""
+    endings = tuple(suffixes)
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(Path(folder).iterdir()) if p.is_file() and p.name.endswith(endings)}

@@ -1,17 +1,17 @@
 """Benchmark of painting a sequence on a Dask cluster (``core.farm``): the pieces' times, their sequential share,
 a projection to many machines, and the measured speed-up of `core sequence --workers 2` over `--workers 1`.
 
-1. The pieces (``core.farm.pieces``) of every frame of ``--clip`` (default
-   /work/footage/bbb1080, ``--frames`` 1-5), called one after another in this
-   process exactly as the cluster driver (``core.farm.sequence``) calls them:
-   ``prepared`` (reading, analysis), ``motion_between``, the strokes' life in
-   its three steps (``carried``; ``settled_rows``, the judging canvas laid in
-   bands of rows, as the driver cuts it for 1, 2 and 8 worker threads, each
-   band timed; ``born``), ``shown_frame``
-   (laying the frame shown), ``written`` (the maps into a staging folder, with
-   the measures), then ``shot.Run.commit``
-   itself (the lives appended, the state, report.json and the staging folder
-   committed), which the driver runs on the client. The painter runs on one
+1. The pieces (``core.sequence.pieces``) of every frame of ``--clip`` (default
+   /work/footage/bbb1080, ``--frames`` 1-5), made one after another in this
+   process with the arguments the cluster driver (``core.farm.sequence``)
+   gives them (``core.farm.frame_file.cluster_arguments``): "prepare"
+   (reading, analysis), "motion", the strokes' life in its three steps
+   ("carry"; "judge", the judging canvas laid in bands of rows, as the driver
+   cuts it for 1, 2 and 8 worker threads, each band timed; "birth"), "shown"
+   (laying the frame shown), "write" (the maps into a staging folder, with
+   the measures), then ``shot.Run.commit`` itself (the lives appended, the
+   state, report.json and the staging folder committed), which the driver
+   runs on the client. The painter runs on one
    thread, as on a Dask worker (``core.farm.plugin.PainterWorker``:
    ``tuning.MAX_WORKERS`` and ``tuning.WRITERS`` 1, the C heap reused). The
    table gives each piece's median seconds over the frames after the first,
@@ -26,9 +26,9 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
 3. A projection of a 250-frame shot (``--projected-frames``) onto 1, 8 and 32
    machines of 2 single-threaded workers each, from the measured piece
    times: max(chain, work / threads) + fill + drain, where chain = the
-   first frame's life + 249 x (carry + settling + birth + commit), settling
+   first frame's life + 249 x (carry + judging + birth + commit), judging
    on T threads being the longest of the min(T, 8) bands the driver cuts
-   (``core.farm.sequence.MAX_BANDS``), work = every piece of every
+   (``core.farm.scheduling.MAX_BANDS``), work = every piece of every
    frame on the workers, fill = the first frame's reading (before the chain
    can start), drain = laying and writing the last frame. Then the same with
    every piece's inputs (and the strokes and the maps' report the client
@@ -53,7 +53,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import hashlib
 import os
 import pickle
 import resource
@@ -64,26 +63,25 @@ import time
 from pathlib import Path
 from typing import Dict, Mapping, Sequence
 
-from common import run_child
+from common import file_digests, run_child
 from core import tuning
 from core.cli import build_parser, params_from_args
-from core.farm.pieces import born, carried, motion_between, prepared, written
-from core.farm.sequence import MAX_BANDS, row_bands
-from core.files.frames import carry_vector_passes, find_frames
+from core.farm.frame_file import cluster_arguments
+from core.farm.scheduling import MAX_BANDS
+from core.files.frames import find_frames
 from core.files.staging import output_folder
 from core.heap import reused_heap
 from core.params import SequenceSettings
-from core.sequence.frame_step import settled_rows
-from core.sequence.shot import OPTICAL_FLOW_MOTION, VECTOR_PASS_MOTION, Run, fingerprint
-from core.sequence.tasks import shown_frame
+from core.sequence.pieces import PieceKey, PieceKind, judging_bands
+from core.sequence.shot import Run, shot_settings
 
 FOOTAGE = Path("/work/footage")
 CLIP = FOOTAGE / "bbb1080"
 CLIP_FRAMES = "1-5"
 SMALL_CLIP = FOOTAGE / "bbb01"
-PIECES = ("prepared", "motion", "carry", "settle", "birth", "shown", "written", "commit")
+PIECES = tuple(kind.value for kind in PieceKind) + ("commit",)
 WORKER_PIECES = PIECES[:-1]
-CHAIN_PIECES = ("carry", "birth", "commit")     # in frame order; "settle" runs in bands side by side between them
+CHAIN_PIECES = ("carry", "birth", "commit")     # in frame order; "judge" runs in bands side by side between them
 MACHINES = (1, 8, 32)
 THREADS_PER_MACHINE = 2
 PROJECTED_FRAMES = 250
@@ -93,13 +91,13 @@ SPEEDUP_WORKERS = (1, 2, 0)     # --workers 1, --workers 2, and 0: no --workers 
 # The inputs each piece of frame t > 0 is sent (piece, result it needs), and the results sent to the client: the
 # volume per frame when every one crosses the network. Frame t-1's strokes travel with frame t's life from the
 # client; frame t-1's frame shown goes to frame t's writing.
-SENT = (("carry", "birth"), ("carry", "prepared"), ("carry", "motion"), ("client", "carry"), ("settle", "carry"),
-        ("birth", "birth"), ("birth", "prepared"), ("birth", "motion"), ("birth", "carry"), ("birth", "settle"),
-        ("client", "birth"), ("shown", "birth"), ("written", "birth"), ("written", "shown"), ("written", "shown"),
-        ("written", "motion"), ("client", "written"))
-CHAIN_SENT = (("carry", "birth"), ("carry", "prepared"), ("carry", "motion"), ("client", "carry"),
-              ("settle", "carry"), ("birth", "birth"), ("birth", "prepared"), ("birth", "motion"),
-              ("birth", "carry"), ("birth", "settle"), ("client", "birth"))
+SENT = (("carry", "birth"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"), ("judge", "carry"),
+        ("birth", "birth"), ("birth", "prepare"), ("birth", "motion"), ("birth", "carry"), ("birth", "judge"),
+        ("client", "birth"), ("shown", "birth"), ("write", "birth"), ("write", "shown"), ("write", "shown"),
+        ("write", "motion"), ("client", "write"))
+CHAIN_SENT = (("carry", "birth"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"),
+              ("judge", "carry"), ("birth", "birth"), ("birth", "prepare"), ("birth", "motion"),
+              ("birth", "carry"), ("birth", "judge"), ("client", "birth"))
 
 
 @contextlib.contextmanager
@@ -123,7 +121,7 @@ def pickled(value) -> tuple:
 
 
 def prepared_parts(made) -> Dict[str, int]:
-    """Pickled bytes of a later frame's ``prepared`` result by part: the picture read, the analysis, the colour
+    """Pickled bytes of a later frame's PREPARE result by part: the picture read, the analysis, the colour
     sources at every stroke width (``frame_step.FrameAnalysis``)."""
     return {"picture": pickled(made.frame.image)[0], "analysis": pickled(made.analysed.analysis)[0],
             "colour sources": pickled(made.analysed.sources)[0]}
@@ -147,68 +145,82 @@ BAND_COUNTS = (1, THREADS_PER_MACHINE, MAX_BANDS)
 
 
 def measure_pieces(clip: str, frame_range: str, seed: int, work: Path) -> dict:
-    """Every frame's pieces of ``clip`` run in order as ``core.farm.sequence`` runs them, committed into ``work``.
+    """Every frame's pieces of ``clip`` (``core.sequence.pieces``) made in order with the arguments the cluster
+    driver gives them (``core.farm.frame_file.cluster_arguments``), committed into ``work``.
 
     Returns {"frames": Frames, "seconds": [{piece: s} per frame], "bytes": [{piece: pickled bytes} per frame],
     "pickling": [{piece: s to pickle and unpickle its result} per frame], "life_stages": [{stage: s} per frame]
     (the life's own "seconds", its analysis left out), "strokes": [alive per frame], "prepared_parts": [{part:
     pickled bytes} per frame after the first], "bands": [{bands: (s of all, s of the longest)} per frame after
     the first, for each of BAND_COUNTS]}; the first frame has no "motion", and its "carry" is the still painted
-    (no "settle" or "birth"). "settle" is the seconds of the THREADS_PER_MACHINE bands together, the cut the
-    driver makes on one machine like this one.
+    (no "judge"). "judge" is the seconds of the THREADS_PER_MACHINE bands together, the cut the driver makes on
+    one machine like this one.
     """
     params, settings = cli_params(clip, seed)
     frames = find_frames([clip], frame_range, params.max_megapixels)
-    vector_pass = carry_vector_passes(frames.paths)
-    motion_name = VECTOR_PASS_MOTION if vector_pass else OPTICAL_FLOW_MOTION
-    run = Run(frames, params, settings, motion_name, fingerprint(params, settings, motion_name))
-    shape = (frames.height, frames.width)
+    run = Run(frames, shot_settings(frames, params, settings))
     seconds, sizes, pickling, stages, strokes, parts, banded = [], [], [], [], [], [], []
     with worker_painter(), output_folder(work) as folder:
         report = run.new_report()
-        painted = shown_before = None
-        for index, (path, number) in enumerate(zip(frames.paths, frames.numbers, strict=True)):
-            took, made = {}, {}
-            made["prepared"], took["prepared"] = timed(prepared, path, params, vector_pass, index > 0)
-            motion = None
-            if index:
-                made["motion"], took["motion"] = timed(motion_between, frames.paths[index - 1], path, params,
-                                                       vector_pass)
-                motion = made["motion"]
-            previous = painted
-            painted, took["carry"] = timed(carried, previous, index, made["prepared"], motion, params,
-                                           settings.fade_frames)
-            made["carry"] = painted
-            if index:
-                cuts = {}
-                for count in BAND_COUNTS:
-                    rows = [timed(settled_rows, made["carry"], params, shape, band)
-                            for band in row_bands(shape[0], count)]
-                    cuts[count] = (sum(spent for _, spent in rows), max(spent for _, spent in rows))
-                    if count == THREADS_PER_MACHINE:
-                        made["settle"] = [part for part, _ in rows]
-                took["settle"] = cuts[THREADS_PER_MACHINE][0]
-                banded.append(cuts)
-                painted, took["birth"] = timed(born, previous, index, made["prepared"], motion, params,
-                                               made["carry"], *made["settle"])
-                made["birth"] = painted
-            made["shown"], took["shown"] = timed(shown_frame, painted, params, shape)
-            made["written"], took["written"] = timed(
-                written, folder.folder, number, painted, made["shown"], path, shown_before,
-                frames.paths[index - 1] if index else None, motion, params, settings.normal_map)
-            _, took["commit"] = timed(run.commit, folder, index, painted, made["written"], report)
-            shown_before = made["shown"]
+        pieces = run.pieces(folder.folder, analyse_ahead=True)
+        made, lived = {}, {}
+        for index, number in enumerate(frames.numbers):
+            took = {}
+            for key in pieces.life_start_keys(index):
+                took[key.kind.value] = made_piece(pieces.piece(key), made, lived, run)
+            step = made[PieceKey(PieceKind.CARRY, index)]
+            bands = judging_bands(step, run.shot.shape[0], THREADS_PER_MACHINE)
+            if bands:
+                banded.append(band_seconds(pieces, index, made, lived, run))
+            for key in pieces.life_end_keys(index, bands):
+                took[key.kind.value] = took.get(key.kind.value, 0.0) + made_piece(pieces.piece(key, bands), made,
+                                                                                    lived, run)
+            painted = lived[index] = made[PieceKey(PieceKind.BIRTH, index)]
+            _, took["commit"] = timed(run.commit, folder, index, painted, made[PieceKey(PieceKind.WRITE, index)],
+                                      report)
             seconds.append(took)
-            travelled = {name: pickled(value) for name, value in made.items()}
+            travelled = {name: pickled(value) for name, value in frame_results(made, index).items()}
             sizes.append({name: size for name, (size, _) in travelled.items()})
             pickling.append({name: spent for name, (_, spent) in travelled.items()})
             if index:
-                parts.append(prepared_parts(made["prepared"]))
+                parts.append(prepared_parts(made[PieceKey(PieceKind.PREPARE, index)]))
             stages.append({k: v for k, v in painted.seconds.items() if k != "analysis"})
             strokes.append(len(painted.living))
+            for key in [key for key in made if key.index < index]:
+                del made[key]
             print(f"frame {number}: " + ", ".join(f"{k} {v:.2f} s" for k, v in took.items()), file=sys.stderr)
     return {"frames": frames, "seconds": seconds, "bytes": sizes, "pickling": pickling, "life_stages": stages,
             "strokes": strokes, "prepared_parts": parts, "bands": banded}
+
+
+def made_piece(piece, made: dict, lived: dict, run: Run) -> float:
+    """Make ``piece`` with the arguments the cluster driver gives it, keep its result in ``made``; its seconds."""
+    arguments = cluster_arguments(piece, made, lived, run.shot, run.frames.paths)
+    made[piece.key], spent = timed(piece.make, *arguments)
+    return spent
+
+
+def band_seconds(pieces, index: int, made: dict, lived: dict, run: Run) -> dict:
+    """{bands: (s of all, s of the longest)} of frame ``index``'s judging canvas cut for each of BAND_COUNTS."""
+    step = made[PieceKey(PieceKind.CARRY, index)]
+    cuts = {}
+    for count in BAND_COUNTS:
+        bands = judging_bands(step, run.shot.shape[0], count)
+        spent = [made_piece(pieces.piece(PieceKey(PieceKind.JUDGE, index, band), bands), {**made}, lived, run)
+                 for band in range(len(bands))]
+        cuts[count] = (sum(spent), max(spent))
+    return cuts
+
+
+def frame_results(made: dict, index: int) -> Dict[str, object]:
+    """{piece kind: its result (a list of them for the JUDGE bands)} of frame ``index``'s pieces in ``made``."""
+    results: Dict[str, object] = {}
+    for key, value in made.items():
+        if key.index == index and key.kind is PieceKind.JUDGE:
+            results.setdefault(key.kind.value, []).append(value)
+        elif key.index == index:
+            results[key.kind.value] = value
+    return results
 
 
 def medians(rows: Sequence[Mapping[str, float]]) -> Dict[str, float]:
@@ -235,7 +247,7 @@ def settling(later: Mapping, threads: int) -> float:
     return later["bands"][band_count(threads, later["bands"])][1]
 
 
-def settle_work(later: Mapping, threads: int) -> float:
+def judge_work(later: Mapping, threads: int) -> float:
     """Seconds of all the judging canvas's bands on ``threads`` worker threads."""
     return later["bands"][band_count(threads, later["bands"])][0]
 
@@ -259,19 +271,18 @@ def projection(first: Mapping[str, float], later: Mapping[str, float], frames: i
     frame's reading and analysis, before the chain starts; drain = laying and writing the last frame;
     total = max(chain, work) + fill + drain.
     """
-    later_work = sum(later[p] for p in WORKER_PIECES if p != "settle") + settle_work(later, threads) + transfer
+    later_work = sum(later[p] for p in WORKER_PIECES if p != "judge") + judge_work(later, threads) + transfer
     chain = first["carry"] + (frames - 1) * (sum(later[p] for p in CHAIN_PIECES) + settling(later, threads)
                                              + chain_transfer)
     work = (sum(first.get(p, 0.0) for p in WORKER_PIECES) + (frames - 1) * later_work) / threads
-    fill = first["prepared"]
-    drain = later["shown"] + later["written"]
+    fill = first["prepare"]
+    drain = later["shown"] + later["write"]
     return {"chain": chain, "work": work, "fill": fill, "drain": drain, "total": max(chain, work) + fill + drain}
 
 
 def output_digests(folder: Path) -> Dict[str, str]:
     """{file name: SHA-256} of the painted files in ``folder``: every .png, .exr and strokes.lives."""
-    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.iterdir()) if p.is_file() and p.suffix in COMPARED_SUFFIXES}
+    return file_digests(folder, COMPARED_SUFFIXES)
 
 
 def measure_speedup(clip: str, seed: int, runs: int, work: Path) -> dict:
@@ -330,10 +341,10 @@ def print_pieces(measured: dict) -> tuple:
         print(f"{piece:<10} {first.get(piece, float('nan')):>14.2f} {later[piece]:>24.2f} "
               f"{f'{low:.2f}-{high:.2f}':>13} {size:>18} {spent:>18}")
     print(f"{'all':<10} {sum(first.values()):>14.2f} {sum(later[p] for p in PIECES):>24.2f}")
-    print("settle, the judging canvas in bands of rows (median s, all bands / the longest): "
+    print("judge, the judging canvas in bands of rows (median s, all bands / the longest): "
           + ", ".join(f"{count} band{'s' if count > 1 else ''} {all_:.2f} / {longest:.2f}"
                       for count, (all_, longest) in bands.items()))
-    print("prepared's result pickled, MB by part (median): "
+    print("prepare's result pickled, MB by part (median): "
           + ", ".join(f"{k} {megabytes(v)}" for k, v in medians(measured["prepared_parts"]).items()))
     stages = medians(measured["life_stages"][1:])
     print("life of a later frame, its own stages (median s): "

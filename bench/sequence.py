@@ -84,10 +84,10 @@ from core.figures.gif import write_gif
 from core.figures.sheet import contact_sheet
 from core.files import reading, writing
 from core.files.frames import Frames, find_frames, read_vector_pass
+from core.files.shot_files import numbered_name
 from core.measures.metrics import psnr
 from core.motion import measures
-from core.motion.optical_flow import optical_flow
-from core.motion.vector_pass import motion_pair
+from core.motion.source import VECTOR_PASS_MOTION, motion_source, two_way_motion
 from core.motion.visibility import visible_in_both
 from core.workers import worker_count
 
@@ -175,14 +175,14 @@ def sequence_frames(out: Path, frames: Frames, folder: Path) -> List[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     paintings = []
     for number in frames.numbers:
-        for stem, suffix in (("painting", ".png"), ("height", ".exr")):
-            found = out / f"{stem}_{number:04d}{suffix}"
+        for name in ("painting.png", "height.exr"):
+            found = out / numbered_name(name, number)
             if not found.is_file():
                 raise SystemExit(f"core sequence wrote no {found.name} in {out}.")
             link = folder / found.name
             if not link.exists():
                 link.symlink_to(found.resolve())
-        paintings.append(out / f"painting_{number:04d}.png")
+        paintings.append(out / numbered_name("painting.png", number))
     return paintings
 
 
@@ -210,27 +210,27 @@ def ratio(value: float, of: float) -> float:
 def motions(frames: Frames, sources: Sequence[Path]) -> tuple:
     """The clip's motion between consecutive frames, as ALGORITHM §9 takes it: (name, pairs).
 
-    name: "vector pass" when every frame carries Blender's Vector pass, else
-    "optical flow" (core.motion.optical_flow on the source frames, both
-    ways). pairs: a generator of (w_f, w_b), float32 (H, W, 2) px, one pair
-    of consecutive frames at a time.
+    name: the motion's source (``core.motion.source.motion_source``): Blender's
+    Vector pass when every frame carries one, else optical flow on the source
+    frames, both ways, at their own size. pairs: a generator of (w_f, w_b),
+    float32 (H, W, 2) px, one pair of consecutive frames at a time.
     """
-    if all(read_vector_pass(p) is not None for p in frames.paths):
-        def passes():
-            before = read_vector_pass(frames.paths[0])
-            for path in frames.paths[1:]:
-                after = read_vector_pass(path)
-                yield motion_pair(before, after)
-                before = after
-        return "vector pass", passes()
+    source = motion_source(frames.paths)
+    if source == VECTOR_PASS_MOTION:
+        read = read_vector_pass
+        inputs = frames.paths
+    else:
+        def read(path):
+            return reading.read_image(path, max_megapixels=math.inf)
+        inputs = sources
 
-    def flows():
-        before = reading.read_image(sources[0], max_megapixels=math.inf)
-        for path in sources[1:]:
-            after = reading.read_image(path, max_megapixels=math.inf)
-            yield optical_flow(before, after), optical_flow(after, before)
+    def pairs():
+        before = read(inputs[0])
+        for path in inputs[1:]:
+            after = read(path)
+            yield two_way_motion(before, after, source, max_megapixels=math.inf)
             before = after
-    return "optical flow", flows()
+    return source, pairs()
 
 
 def steadiness(frames: Frames, sources: Sequence[Path], sides: Dict[str, tuple]) -> tuple:
@@ -453,7 +453,7 @@ def main() -> None:
             ran = paint_sequence(args.clip, args.frames, work / "sequence", args.seed, args.sequence_runs)
             report, wall = ran["report"], statistics.median(ran["walls"])
             paintings = sequence_frames(work / "sequence", frames, scratch / "sequence_frames")
-            heights = [work / "sequence" / f"height_{number:04d}.exr" for number in numbers]
+            heights = [work / "sequence" / numbered_name("height.exr", number) for number in numbers]
             folder = sequence_frame_folder(painted["folders"][at], paintings[at], heights[at], scratch / "stats")
             sides["sequence"] = {
                 "seconds_per_frame": wall / n, "clip_seconds": wall, "peak": max(ran["peaks"]),

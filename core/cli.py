@@ -223,19 +223,28 @@ def run_paint(args: argparse.Namespace, progress) -> None:
                    notice=lambda text: _notice(progress, text))
 
 
+def _add_files_parser(sub, name: str, summary: str, description: str, inputs: tuple,
+                      output: tuple) -> argparse.ArgumentParser:
+    """The parser of subcommand ``name`` that takes input files and an output folder: ``inputs`` = (dest,
+    metavar, help) of its one or more inputs, ``output`` = (metavar, help) of its -o/--output folder."""
+    p = sub.add_parser(name, help=summary, description=description)
+    dest, metavar, inputs_help = inputs
+    p.add_argument(dest, nargs="+", metavar=metavar, help=inputs_help)
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar=output[0], help=output[1])
+    return p
+
+
 def _add_sequence_parser(sub) -> None:
-    p = sub.add_parser(
-        "sequence", help="paint an image sequence with strokes that live across frames",
-        description="Paint a shot frame after frame, carrying the strokes by the motion (Blender's Vector pass "
-                    "when every frame has one, else optical flow). Writes painting_####.png, color_####.exr, "
-                    "height_####.exr, opacity_####.exr and orientation_####.exr per frame (normal_####.exr with "
-                    "--normal-map), strokes.lives and report.json. Every frame is committed whole; the same "
-                    "command run again resumes after the last complete frame.")
-    p.add_argument("input", nargs="+", metavar="INPUT",
-                   help="a folder of frames, a pattern with # for the frame number (render/frame_####.exr), or "
-                        "frame files in order (PNG, JPEG, TIFF, EXR, Blender multilayer EXR)")
-    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
-                   help="folder for the outputs (created if missing)")
+    p = _add_files_parser(
+        sub, "sequence", "paint an image sequence with strokes that live across frames",
+        "Paint a shot frame after frame, carrying the strokes by the motion (Blender's Vector pass "
+        "when every frame has one, else optical flow). Writes painting_####.png, color_####.exr, "
+        "height_####.exr, opacity_####.exr and orientation_####.exr per frame (normal_####.exr with "
+        "--normal-map), strokes.lives and report.json. Every frame is committed whole; the same "
+        "command run again resumes after the last complete frame.",
+        ("input", "INPUT", "a folder of frames, a pattern with # for the frame number (render/frame_####.exr), or "
+                           "frame files in order (PNG, JPEG, TIFF, EXR, Blender multilayer EXR)"),
+        ("OUTDIR", "folder for the outputs (created if missing)"))
     p.add_argument("--frames", metavar="A-B", help="paint frames A to B only (A-, -B and A also work)")
     p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
                    help="frames a stroke takes to fade in when born and out when it dies (default: %(default)s)")
@@ -248,14 +257,13 @@ def _add_sequence_parser(sub) -> None:
 
 def _add_batch_parser(sub) -> None:
     """The ``batch`` subcommand's options."""
-    p = sub.add_parser(
-        "batch", help="paint unrelated stills, each into a folder of its own",
-        description="Paint each INPUT as `paint` does into OUTROOT/<name>_001 (the first free counter, as the "
-                    "Blender panel names a painting's folder), in this process one after another or on a Dask "
-                    "cluster, with the same bytes. Every input is checked before any painting.")
-    p.add_argument("input", nargs="+", metavar="INPUT", help="still images to paint (PNG, JPEG, TIFF, EXR, ...)")
-    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTROOT",
-                   help="folder under which each painting gets its own folder (created if missing)")
+    p = _add_files_parser(
+        sub, "batch", "paint unrelated stills, each into a folder of its own",
+        "Paint each INPUT as `paint` does into OUTROOT/<name>_001 (the first free counter, as the "
+        "Blender panel names a painting's folder), in this process one after another or on a Dask "
+        "cluster, with the same bytes. Every input is checked before any painting.",
+        ("input", "INPUT", "still images to paint (PNG, JPEG, TIFF, EXR, ...)"),
+        ("OUTROOT", "folder under which each painting gets its own folder (created if missing)"))
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_method_options(p)
@@ -425,13 +433,12 @@ def run_light(args: argparse.Namespace, progress) -> None:
 
 def _add_experiments_parser(sub) -> None:
     """The ``experiments`` subcommand's options."""
-    p = sub.add_parser(
-        "experiments", help="compare the paper's method with Hertzmann 1998 and the two ablations",
-        description="Paint every IMAGE with the paper's method, Hertzmann 1998 (Impressionist), the "
-                    "Hertzmann-layout ablation and the solid-lines ablation; write table.md, table.csv "
-                    "(strokes, seconds, PSNR, SSIM, edge fidelity, stroke ratio) and <image>_sheet.png.")
-    p.add_argument("images", nargs="+", metavar="IMAGE", help="photographs to paint")
-    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR", help="folder for the tables and sheets")
+    p = _add_files_parser(
+        sub, "experiments", "compare the paper's method with Hertzmann 1998 and the two ablations",
+        "Paint every IMAGE with the paper's method, Hertzmann 1998 (Impressionist), the "
+        "Hertzmann-layout ablation and the solid-lines ablation; write table.md, table.csv "
+        "(strokes, seconds, PSNR, SSIM, edge fidelity, stroke ratio) and <image>_sheet.png.",
+        ("images", "IMAGE", "photographs to paint"), ("OUTDIR", "folder for the tables and sheets"))
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="detail of the paper's method (default: %(default)s)")
     _add_run_options(p)

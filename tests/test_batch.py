@@ -45,6 +45,7 @@ def painted(folder: Path) -> dict:
     return dict(files, report=report)
 
 
+@pytest.mark.cluster
 def test_a_batch_on_two_local_workers_paints_each_still_as_painting_it_alone(tmp_path):
     pytest.importorskip("distributed")
     inputs = photos(tmp_path / "in")
@@ -83,6 +84,7 @@ def unreadable(source, folder, params, normal_map=False):
     raise OSError(errno.EIO, "Input/output error", source)
 
 
+@pytest.mark.cluster
 def test_a_still_that_fails_with_an_os_error_is_named_and_not_taken_for_a_lost_scheduler(tmp_path):
     distributed = pytest.importorskip("distributed")
     from core.farm.batch import paint_stills

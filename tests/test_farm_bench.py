@@ -8,11 +8,11 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
 from farm import CHAIN_SENT, output_digests, projection, sent_bytes, sequential_share, settling  # noqa: E402
 
-FIRST = {"prepared": 0.5, "carry": 10.0, "shown": 3.0, "written": 1.0, "commit": 0.2}
-LATER = {"prepared": 2.0, "motion": 2.0, "carry": 0.5, "settle": 4.0, "birth": 1.5, "shown": 3.0, "written": 2.0,
+FIRST = {"prepare": 0.5, "carry": 10.0, "shown": 3.0, "write": 1.0, "commit": 0.2}
+LATER = {"prepare": 2.0, "motion": 2.0, "carry": 0.5, "judge": 4.0, "birth": 1.5, "shown": 3.0, "write": 2.0,
          "commit": 1.0, "bands": {1: (3.0, 3.0), 2: (4.0, 2.0), 8: (6.0, 0.6)}}
-SIZES = {"prepared": 200.0, "motion": 40.0, "carry": 20.0, "settle": 30.0, "birth": 50.0, "shown": 60.0,
-         "written": 1.0}
+SIZES = {"prepare": 200.0, "motion": 40.0, "carry": 20.0, "judge": 30.0, "birth": 50.0, "shown": 60.0,
+         "write": 1.0}
 
 
 def test_sequential_share_is_carry_birth_and_commit_over_every_piece():

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from oracles import folder_bytes, one_sentence_run, same_bytes
 
 from core.errors import Cancelled
 from core.files.frames import find_frames
@@ -172,11 +173,6 @@ def write_moving_frames(folder: Path, count: int, shape=(96, 128), step=(1.5, 0.
         write_png(folder / f"frame_{t + 1:04d}.png", moved_photo(shape, (-t * step[0], -t * step[1])), bits=16)
 
 
-def files_of(folder: Path) -> dict:
-    """{name: bytes} of every frame file, the lives file and the state (not report.json: it holds seconds)."""
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.name != "report.json" and p.is_file()}
-
-
 def command(inputs, out, *options) -> list:
     return [sys.executable, "-m", "core", "sequence", *map(str, inputs), "-o", str(out), "-q", *options]
 
@@ -201,29 +197,27 @@ def test_a_sequence_killed_at_a_frame_resumes_to_the_same_bytes(tmp_path):
     rerun = subprocess.run(command([tmp_path / "in"], tmp_path / "killed", "--seed", "9"), cwd=ROOT,
                            capture_output=True, text=True)
     assert rerun.returncode == 0, rerun.stderr
-    assert files_of(tmp_path / "killed") == files_of(tmp_path / "whole")
+    same_bytes(tmp_path / "killed", tmp_path / "whole")
     assert not [p for p in os.listdir(tmp_path / "killed") if p.startswith(".staging")]
 
 
 def refusal(arguments, cwd=ROOT) -> str:
-    """The one line a refused ``core sequence`` prints (exit status 2)."""
+    """The one sentence a refused ``core sequence`` prints (exit status 2)."""
     run = subprocess.run([sys.executable, "-m", "core", "sequence", *map(str, arguments), "-q"], cwd=cwd,
                          capture_output=True, text=True)
     assert run.returncode == 2, run.stderr
-    lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1, lines
-    return lines[0]
+    return one_sentence_run(run)
 
 
 def test_a_folder_of_another_sequence_or_a_still_is_refused_and_left_as_it_was(tmp_path):
     write_moving_frames(tmp_path / "in", 2, shape=(64, 80))
     paint_sequence(find_frames([str(tmp_path / "in")]), tmp_path / "out", Params(seed=1))
-    before = files_of(tmp_path / "out")
+    before = folder_bytes(tmp_path / "out")
     line = refusal([tmp_path / "in", "-o", tmp_path / "out", "--seed", "2"])
     assert f"The output folder {tmp_path / 'out'} holds frames painted with other settings" in line
     line = refusal([tmp_path / "in", "-o", tmp_path / "out", "--seed", "1", "--fade-frames", "2"])
     assert "other settings" in line
-    assert files_of(tmp_path / "out") == before
+    assert folder_bytes(tmp_path / "out") == before
     (tmp_path / "still").mkdir()
     (tmp_path / "still" / "report.json").write_text(json.dumps({"strokes": 3}))
     line = refusal([tmp_path / "in", "-o", tmp_path / "still"])
@@ -299,7 +293,7 @@ def test_a_cancelled_sequence_keeps_its_complete_frames_and_goes_on_to_the_same_
     assert sorted(p.name for p in (tmp_path / "part").glob("painting_*.png")) == ["painting_0001.png",
                                                                                  "painting_0002.png"]
     paint_sequence(frames, tmp_path / "part", Params(seed=4))
-    assert files_of(tmp_path / "part") == files_of(tmp_path / "whole")
+    same_bytes(tmp_path / "part", tmp_path / "whole")
 
 
 def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole():

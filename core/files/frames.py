@@ -24,6 +24,7 @@ import numpy as np
 from ..errors import InputError, ParameterError, plain_cause
 from . import reading
 from .image_files import PathLike
+from .shot_files import is_pattern, pattern_parts
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr")
 """The file name endings (any case) of a folder's frames."""
@@ -32,7 +33,6 @@ VECTOR_PASS = ("Vector", "XYZW")
 """Blender's motion pass in a multilayer EXR and its channels."""
 
 _DIGITS = re.compile(r"\d+")
-_HASHES = re.compile(r"#+")
 _RANGE = re.compile(r"(\d*)-(\d*)|(\d+)")
 
 
@@ -91,11 +91,6 @@ def frame_files(inputs: Sequence[str]) -> Tuple[List[pathlib.Path], List[int], b
     return _numbered(paths)
 
 
-def is_pattern(text: str) -> bool:
-    """True when ``text`` names no existing file and its file name holds a ``#``."""
-    return "#" in pathlib.Path(text).name and not os.path.isfile(text)
-
-
 def folder_files(folder: pathlib.Path) -> List[pathlib.Path]:
     """The image files of ``folder`` (``IMAGE_SUFFIXES``, any case; not hidden, not folders), in no set order.
 
@@ -120,10 +115,8 @@ def pattern_files(pattern: str) -> List[Tuple[pathlib.Path, int]]:
     """
     pattern_path = pathlib.Path(pattern)
     folder = pattern_path.parent
-    hashes = list(_HASHES.finditer(pattern_path.name))[-1]
-    width = hashes.end() - hashes.start()
-    name = re.compile(re.escape(pattern_path.name[:hashes.start()]) + rf"(\d{{{width}}}|[1-9]\d{{{width},}})"
-                      + re.escape(pattern_path.name[hashes.end():]))
+    before, width, after = pattern_parts(pattern_path.name)
+    name = re.compile(re.escape(before) + rf"(\d{{{width}}}|[1-9]\d{{{width},}})" + re.escape(after))
     found = []
     for entry in _listed(folder, pattern):
         match = name.fullmatch(entry)

@@ -30,15 +30,17 @@ def motion_source(paths: Sequence[Path]) -> str:
     return VECTOR_PASS_MOTION if carry_vector_passes(paths) else OPTICAL_FLOW_MOTION
 
 
-def two_way_motion(before: np.ndarray, after: np.ndarray, source: str) -> Tuple[np.ndarray, np.ndarray]:
+def two_way_motion(before: np.ndarray, after: np.ndarray, source: str,
+                   max_megapixels: float = SEQUENCE_MEGAPIXELS) -> Tuple[np.ndarray, np.ndarray]:
     """(forward, backward) motion between two consecutive frames, each float32 (H, W, 2) px.
 
     ``source`` is ``VECTOR_PASS_MOTION``, with ``before`` and ``after`` the
     frames' Vector passes (float32 (H, W, 4) as stored, ``read_vector_pass``),
     or ``OPTICAL_FLOW_MOTION``, with the frames' sRGB [0, 1] pictures
-    (float32 (H, W, 3)): flow forward and backward at
-    ``SEQUENCE_MEGAPIXELS``.
+    (float32 (H, W, 3)): flow forward and backward refined up to
+    ``max_megapixels`` (the painter's ``SEQUENCE_MEGAPIXELS``; inf: at the
+    frames' own size).
     """
     if source == VECTOR_PASS_MOTION:
         return motion_pair(before, after)
-    return optical_flow(before, after, SEQUENCE_MEGAPIXELS), optical_flow(after, before, SEQUENCE_MEGAPIXELS)
+    return optical_flow(before, after, max_megapixels), optical_flow(after, before, max_megapixels)

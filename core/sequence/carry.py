@@ -43,8 +43,8 @@ SHORTEST_SEGMENT = 0.5
 """px: control polygon segments shorter than this have no direction to turn from."""
 
 
-class Carried(NamedTuple):
-    """A frame's strokes carried to the next frame."""
+class CarrySurvivors(NamedTuple):
+    """A frame's strokes carried to the next frame: the survivors and how many died on the way."""
 
     living: LivingStrokes       # the survivors, dying ones included, at their new fade levels
     occluded: int               # strokes gone at once: occluded or off the canvas
@@ -52,7 +52,7 @@ class Carried(NamedTuple):
 
 
 def carry(living: LivingStrokes, forward: np.ndarray, visible: np.ndarray, size_map: np.ndarray,
-          sizes: Sequence[int], orientation_threshold: float) -> Carried:
+          sizes: Sequence[int], orientation_threshold: float) -> CarrySurvivors:
     """Move ``living`` by ``forward`` (H, W, 2) px (frame t to t+1) and decide which strokes die.
 
     visible: (H, W) bool, frame t's pixels visible in both frames. size_map: (H, W) int, the stroke size (px) frame
@@ -76,7 +76,7 @@ def carry(living: LivingStrokes, forward: np.ndarray, visible: np.ndarray, size_
     level = np.where(dying, survivors.level - 1, np.minimum(survivors.level + 1, living.fade_frames))
     stepped = replace(survivors, level=level.astype(np.int32), dying=dying)
     left = level > 0
-    return Carried(stepped.subset(left).with_contact(), int(np.count_nonzero(~kept)), int(np.count_nonzero(~left)))
+    return CarrySurvivors(stepped.subset(left).with_contact(), int(np.count_nonzero(~kept)), int(np.count_nonzero(~left)))
 
 
 def hidden(control: np.ndarray, valid: np.ndarray, visible: np.ndarray) -> np.ndarray:

@@ -95,7 +95,7 @@ def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stag
                         {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes})
 
 
-class Carried(NamedTuple):
+class CarriedFrame(NamedTuple):
     """The frame before's strokes carried to this frame, before births: what the judging canvas is laid from."""
 
     living: LivingStrokes       # carried and recoloured, in laying order (dying ones start fading out later)
@@ -108,8 +108,9 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
                stage: Stage, analysed: Optional[FrameAnalysis] = None) -> PaintedFrame:
     """Frame ``index`` (>= 1) of (H, W, 3) sRGB [0, 1] ``image`` from the ``previous`` frame and the ``motion``
     between them; ``analysed``: the frame's ``analyse_frame`` when it was made elsewhere (made here when None).
-    The three steps, each a piece a cluster runs as a task: ``carried_frame``, the judging canvas laid
-    (``settled_rows``, of every row here; bands of rows side by side on a cluster) and ``born_frame``."""
+    The three steps, each a piece of its own in ``pieces`` (CARRY, JUDGE, BIRTH): ``carried_frame``, the judging
+    canvas laid (``settled_rows``, of every row here; bands of rows side by side on a cluster) and
+    ``born_frame``."""
     seconds = {}
     if analysed is None:
         analysed = analyse_frame(image, params, stage.cancel)
@@ -122,7 +123,7 @@ def next_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
 
 
 def carried_frame(previous: PaintedFrame, image: np.ndarray, motion: FrameMotion, params: Params,
-                  analysed: FrameAnalysis) -> Carried:
+                  analysed: FrameAnalysis) -> CarriedFrame:
     """The ``previous`` frame's strokes carried by the ``motion`` onto (H, W, 3) ``image`` (``carry``), dead ones
     gone, anchor colours taken again from the frame (``recoloured``)."""
     clock = time.perf_counter()
@@ -131,7 +132,7 @@ def carried_frame(previous: PaintedFrame, image: np.ndarray, motion: FrameMotion
                     size_map(analysis.grids, analysis.grid_sizes, image.shape[:2]), analysis.sizes,
                     params.orientation_threshold)
     living = recoloured(carried.living, {s: sources[s].anchor for s in analysis.sizes}, detail_sources(image).anchor)
-    return Carried(living, carried.occluded + carried.faded, tuple(analysis.sizes), time.perf_counter() - clock)
+    return CarriedFrame(living, carried.occluded + carried.faded, tuple(analysis.sizes), time.perf_counter() - clock)
 
 
 class CanvasRows(NamedTuple):
@@ -142,7 +143,7 @@ class CanvasRows(NamedTuple):
     seconds: float
 
 
-def settled_rows(carried: Carried, params: Params, shape: tuple, rows: Tuple[int, int]) -> CanvasRows:
+def settled_rows(carried: CarriedFrame, params: Params, shape: tuple, rows: Tuple[int, int]) -> CanvasRows:
     """Rows ``rows`` = (first, stop) of the judging canvas of the (H, W) ``shape`` frame: the carried strokes that
     are not dying laid at full contact on a blank canvas (only those that reach the rows: ``reaching_rows``)."""
     clock = time.perf_counter()
@@ -166,7 +167,7 @@ def joined_rows(parts) -> Canvas:
 
 
 def born_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
-               stage: Stage, analysed: FrameAnalysis, carried: Carried, judging_rows) -> PaintedFrame:
+               stage: Stage, analysed: FrameAnalysis, carried: CarriedFrame, judging_rows) -> PaintedFrame:
     """Frame ``index`` from its ``carried`` strokes and the judging canvas they lay (``judging_rows``: its
     ``CanvasRows``): where the carried painting leaves the frame bare or wrong (``birth_places``) the still
     painter's layers and detail pass are born, and the carried strokes anchored there start to fade out."""

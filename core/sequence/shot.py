@@ -29,26 +29,27 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..errors import Cancelled, OutputError, ParameterError
-from ..files.frames import Frames, carry_vector_passes
+from ..files.frames import Frames
 from ..files.lives import LIVES_FILE, append_frame
+from ..files.shot_files import REPORT_FILE, frame_file_names
 from ..files.staging import output_folder
 from ..files.writing import write_json
+from ..motion.source import motion_source
 from ..params import Params, SequenceSettings
 from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
-from .frame_step import PaintedFrame, analyse_frame, unchanged
+from .frame_step import PaintedFrame
+from .frame_work import WrittenFrame
+from .pieces import PieceKey, PieceKind, ShotPieces, judging_bands
+from .shot_settings import ShotSettings
 from .state import STATE_FILE, load_state, save_state
-from .tasks import WrittenFrame, frame_motion, frame_names, life, read_frame, shown_frame, written_frame
-
-REPORT_FILE = "report.json"
-VECTOR_PASS_MOTION = "vector pass"
-OPTICAL_FLOW_MOTION = "optical flow"
 
 
-def fingerprint(params: Params, settings: SequenceSettings, motion: str) -> str:
-    """The SHA-256 (hex) of what makes a sequence's frames: the version, the parameters, the settings, the motion."""
-    text = json.dumps({"version": __version__, "params": params.to_dict(), "fade_frames": settings.fade_frames,
-                       "normal_map": settings.normal_map, "motion": motion}, sort_keys=True)
+def fingerprint(shot: ShotSettings) -> str:
+    """The SHA-256 (hex) of what makes a shot's frames: the version, the parameters, the fade and normal-map
+    settings, the motion's source."""
+    text = json.dumps({"version": __version__, "params": shot.params.to_dict(), "fade_frames": shot.fade_frames,
+                       "normal_map": shot.normal_map, "motion": shot.motion}, sort_keys=True)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
@@ -75,11 +76,10 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
     if params.layout != "paper":
         raise ParameterError(f"A sequence is painted with the paper's layout; the layout {params.layout} paints "
                              f"still images only.")
-    motion = VECTOR_PASS_MOTION if carry_vector_passes(frames.paths) else OPTICAL_FLOW_MOTION
-    run = Run(frames, params, settings, motion, fingerprint(params, settings, motion))
+    run = Run(frames, shot_settings(frames, params, settings))
     with output_folder(output_dir) as folder:
         report = run.resumed_report(folder.folder)
-        folder.check_names([name for number in frames.numbers for name in frame_names(number, settings.normal_map)]
+        folder.check_names([name for number in frames.numbers for name in frame_file_names(number, settings.normal_map)]
                            + [REPORT_FILE, STATE_FILE])
         done = len(report["per_frame"])
         if done < len(frames.paths):
@@ -95,11 +95,23 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
     return report
 
 
-class Run:
-    """One run of ``paint_sequence``: its frames, settings and the report it keeps up to date."""
+def shot_settings(frames: Frames, params: Params, settings: SequenceSettings) -> ShotSettings:
+    """The settings ``frames`` are painted with: ``params``, ``settings``, their motion's source (from the frames'
+    headers) and their shape."""
+    return ShotSettings(params, settings.fade_frames, settings.normal_map, motion_source(frames.paths),
+                        (frames.height, frames.width))
 
-    def __init__(self, frames: Frames, params: Params, settings: SequenceSettings, motion: str, key: str):
-        self.frames, self.params, self.settings, self.motion, self.key = frames, params, settings, motion, key
+
+class Run:
+    """One run of ``paint_sequence``: its frames, their ``ShotSettings`` and the report it keeps up to date."""
+
+    def __init__(self, frames: Frames, shot: ShotSettings):
+        self.frames, self.shot, self.key = frames, shot, fingerprint(shot)
+
+    def pieces(self, folder: Path, analyse_ahead: bool) -> ShotPieces:
+        """The declaration of this run's pieces (``pieces.ShotPieces``), writing into staging folders of
+        ``folder``."""
+        return ShotPieces(self.shot, self.frames.paths, self.frames.numbers, folder, analyse_ahead)
 
     def resumed_report(self, folder: Path) -> dict:
         """The report of the frames already committed in ``folder`` when they are this run's (a new report when
@@ -130,34 +142,40 @@ class Run:
         """The report of a sequence with no frame painted yet."""
         return {"version": __version__, "sequence": self.key, "input": [str(p) for p in self.frames.paths],
                 "frame_count": len(self.frames.paths), "width": self.frames.width, "height": self.frames.height,
-                "motion": self.motion, "fade_frames": self.settings.fade_frames, "params": self.params.to_dict(),
+                "motion": self.shot.motion, "fade_frames": self.shot.fade_frames, "params": self.shot.params.to_dict(),
                 "frames": [], "per_frame": [], "lives": {"file": LIVES_FILE, "bytes": 0}, "complete": False}
 
     def paint_from(self, start: int, report: dict, folder, progress: ProgressFn, cancel: CancelFn) -> None:
-        """Paint frames ``start`` .. the last in this process, committing each, ``report`` kept up to date: the
-        pieces of ``tasks`` one after another."""
-        paths, numbers = self.frames.paths, self.frames.numbers
-        count, vector_pass = len(paths), self.motion == VECTOR_PASS_MOTION
-        painted = before = before_shown = None
+        """Paint frames ``start`` .. the last in this process, committing each, ``report`` kept up to date: each
+        frame's pieces (``pieces.ShotPieces``) one after another, the judging canvas in one band."""
+        pieces, count = self.pieces(folder.folder, analyse_ahead=False), len(self.frames.paths)
+        made: Dict[PieceKey, object] = {}
         if start > 0:
-            painted = self.resumed_frame(folder.folder)
-            before = read_frame(paths[start - 1], self.params, vector_pass)
-            before_shown = shown_frame(painted, self.params, before.image.shape[:2])
+            made[PieceKey(PieceKind.BIRTH, start - 1)] = self.resumed_frame(folder.folder)
+            for kind in (PieceKind.PREPARE, PieceKind.SHOWN):
+                self.make(pieces.piece(PieceKey(kind, start - 1)), made, None)
         for index in range(start, count):
-            stage = Stage(frame_progress(progress, numbers[index], index, count), cancel, index / count,
+            stage = Stage(frame_progress(progress, self.frames.numbers[index], index, count), cancel, index / count,
                           (index + 1) / count)
-            frame = read_frame(paths[index], self.params, vector_pass)
             stage.report(0.0, "motion" if index else "painting")
-            motion = frame_motion(before, frame) if index else None
-            analysed = None
-            if index and not unchanged(painted, motion):
-                analysed = analyse_frame(frame.image, self.params, stage.cancel)
-            painted = life(painted, index, frame, motion, self.params, self.settings.fade_frames, stage, analysed)
-            shown = shown_frame(painted, self.params, frame.image.shape[:2])
-            written = written_frame(folder.folder, numbers[index], painted, shown, frame, before_shown, before,
-                                    motion, self.params, self.settings.normal_map)
-            self.commit(folder, index, painted, written, report)
-            before, before_shown = frame, shown
+            for key in pieces.life_start_keys(index):
+                self.make(pieces.piece(key), made, stage)
+            stage.check()
+            bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
+            for key in pieces.life_end_keys(index, bands):
+                self.make(pieces.piece(key, bands), made, stage)
+            self.commit(folder, index, made[PieceKey(PieceKind.BIRTH, index)],
+                        made[PieceKey(PieceKind.WRITE, index)], report)
+            for key in [key for key in made if key.index < index]:
+                del made[key]
+
+    @staticmethod
+    def make(piece, made: Dict[PieceKey, object], stage: Optional[Stage]):
+        """Make ``piece`` from the results ``made`` of the pieces it needs, on ``stage`` when it takes one; keep its
+        result in ``made`` and return it."""
+        options = {"stage": stage} if piece.staged and stage is not None else {}
+        made[piece.key] = piece.make(*(made[key] for key in piece.needs), **options)
+        return made[piece.key]
 
     def resumed_frame(self, folder: Path) -> PaintedFrame:
         """The strokes of the last frame committed in ``folder`` (its state file), to go on from."""
