@@ -27,11 +27,12 @@ then prints a table of both side by side:
 - report.json's "warping_error" of the sequence (its own motion, "motion";
   height / footage from its figures when it gives no "height_ratio");
 - with --coherence-python PY (an interpreter with NumPy, OpenCV and
-  OpenImageIO): ../shared/tools/coherence.py for both (motion from the
+  OpenImageIO): coherence.py of the --tools folder for both (motion from the
   source frames by OpenCV DIS): the warping error of the painting and of the
   height against the footage's, and the stillness (mean change of the
   painting where the footage stands still, against the footage's);
-- ../shared/tools/stroke_stats.py on one frame of each (--stats-frame,
+- stroke_stats.py of the --tools folder (an outside referee's measuring
+  tools; default ../shared/tools) on one frame of each (--stats-frame,
   default the middle one): speckle_share and edge_fidelity side by side,
   with chroma_err_smooth, highlights_kept and crack_share, all of which it
   computes from painting.png, height.exr and the source frame only. Its
