@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Callable, Optional
 
@@ -80,7 +81,8 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
     """Paint the image sequence named by ``inputs`` into ``output_dir`` with strokes that live across frames;
     return the sequence's report (``core.sequence.shot.paint_sequence``).
 
-    inputs: one folder, one ``#`` pattern or frame files in order (``files.frames.find_frames``); frame_range:
+    inputs: one folder, one ``#`` pattern or frame files in order (``files.frames.find_frames``; a single path
+    may be given as it is, not in a list); frame_range:
     ``"A-B"`` or None for every frame; settings: a ``SequenceSettings`` (None for the defaults). The frames, the
     parameters, the stroke sizes and the memory estimate of one frame are checked from headers before any work
     (a PaintReliefError of one sentence). Every frame is committed whole; stopped anywhere (an error, a signal,
@@ -92,7 +94,8 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
     from .sequence.shot import paint_sequence
 
     params.validate()
-    frames = find_frames(inputs, frame_range, params.max_megapixels)
+    inputs = [inputs] if isinstance(inputs, (str, os.PathLike)) else inputs
+    frames = find_frames([str(path) for path in inputs], frame_range, params.max_megapixels)
     budget.check_stroke_sizes(params, frames.height, frames.width)
     budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory)
     try:

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 from oracles import folder_bytes, one_sentence_run, same_bytes
 
+from core.api import paint_sequence_files
 from core.errors import Cancelled
 from core.files.frames import find_frames
 from core.files.reading import read_exr, read_image
@@ -294,6 +295,15 @@ def test_a_cancelled_sequence_keeps_its_complete_frames_and_goes_on_to_the_same_
                                                                                  "painting_0002.png"]
     paint_sequence(frames, tmp_path / "part", Params(seed=4))
     same_bytes(tmp_path / "part", tmp_path / "whole")
+
+
+def test_one_folder_given_as_a_path_is_the_shot_given_in_a_list(tmp_path):
+    write_moving_frames(tmp_path / "in", 2, shape=(48, 64))
+    paint_sequence_files([str(tmp_path / "in")], tmp_path / "listed", Params(seed=2))
+    paint_sequence_files(str(tmp_path / "in"), tmp_path / "text", Params(seed=2))
+    paint_sequence_files(tmp_path / "in", tmp_path / "path", Params(seed=2))
+    same_bytes(tmp_path / "text", tmp_path / "listed")
+    same_bytes(tmp_path / "path", tmp_path / "listed")
 
 
 def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole():
