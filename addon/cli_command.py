@@ -41,7 +41,7 @@ def _paint(argv):
 
 
 def _canvas_parser():
-    from .comparison.compare_command import Parser
+    from .command_line import Parser
 
     parser = Parser(prog="blender --command paint_relief canvas",
                     description="Build a Paint Relief canvas from a painted folder in an empty scene and save it.")

@@ -17,6 +17,19 @@ from .settings import properties
 from .settings.presets import PAINT_RELIEF_MT_paint_presets
 
 
+def _props(layout, settings, *names):
+    """A row for each of the settings ``names``, in order."""
+    for name in names:
+        layout.prop(settings, name)
+
+
+def _note(layout, text, icon="INFO"):
+    """A right-aligned line that tells something (where a painting goes, what will be rendered)."""
+    row = layout.row()
+    row.alignment = "RIGHT"
+    row.label(text=text, icon=icon)
+
+
 class _PaintReliefPanel:
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
@@ -63,20 +76,13 @@ class VIEW3D_PT_paint_relief_paint(_PaintReliefPanel, Panel):
             layout.prop(settings, "image_path")
         layout.prop(settings, "output_dir")
         if not settings.output_dir:
-            row = layout.row()
-            row.alignment = "RIGHT"
-            row.label(text=os.path.join(properties.paintings_parent(context),
-                                        values.folder_stem(properties.image_name(settings)) + "_NNN"), icon="INFO")
+            _note(layout, os.path.join(properties.paintings_parent(context),
+                                       values.folder_stem(properties.image_name(settings)) + "_NNN"))
         col = layout.column()
         col.prop(settings, "method")
         if settings.method == "HERTZMANN98":
             col.prop(settings, "style")
-        col.prop(settings, "mask_path")
-        col.prop(settings, "detail")
-        col.prop(settings, "stroke_sizes")
-        col.prop(settings, "layers")
-        col.prop(settings, "seed")
-        col.prop(settings, "brush")
+        _props(col, settings, "mask_path", "detail", "stroke_sizes", "layers", "seed", "brush")
         if settings.brush == "CUSTOM":
             col.prop(settings, "brush_path")
         col.prop(settings, "height_mode")
@@ -101,9 +107,7 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
         elif source == "SCENE":
             render = scene.render
             scale = render.resolution_percentage / 100.0
-            row = layout.row()
-            row.alignment = "RIGHT"
-            row.label(text="Frames {} to {}, {} x {} px, {}, view layer {}".format(
+            _note(layout, "Frames {} to {}, {} x {} px, {}, view layer {}".format(
                 scene.frame_start, scene.frame_end, int(render.resolution_x * scale),
                 int(render.resolution_y * scale), render.engine.replace("BLENDER_", "").title(),
                 context.view_layer.name), icon="RENDER_ANIMATION")
@@ -113,16 +117,13 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
             layout.prop(settings, "animation_folder")
         else:
             layout.prop(settings, "animation_pattern")
-        layout.prop(settings, "animation_fade_frames")
-        layout.prop(settings, "animation_output_dir")
+        _props(layout, settings, "animation_fade_frames", "animation_output_dir")
         if not settings.animation_output_dir:
             if settings.animation_key and settings.animation_dir:
                 layout.prop(settings, "animation_dir", text="Stopped Run")
             else:
-                row = layout.row()
-                row.alignment = "RIGHT"
-                row.label(text=os.path.join(properties.paintings_parent(context), values.folder_stem(
-                    shot_source.source_name(settings, scene)) + "_NNN"), icon="INFO")
+                _note(layout, os.path.join(properties.paintings_parent(context), values.folder_stem(
+                    shot_source.source_name(settings, scene)) + "_NNN"))
         layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
         layout.operator("paint_relief.paint_animation", icon="RENDER_ANIMATION")
 
@@ -136,17 +137,13 @@ class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
     def draw(self, context):
         layout = self._layout()
         settings = context.scene.paint_relief
-        layout.prop(settings, "painting_dir")
-        layout.prop(settings, "canvas_width_cm")
-        layout.prop(settings, "thickness_mm")
-        layout.prop(settings, "displacement_method")
-        layout.prop(settings, "canvas_frame_range")
+        _props(layout, settings,
+               "painting_dir", "canvas_width_cm", "thickness_mm", "displacement_method", "canvas_frame_range")
         row = layout.row(align=True)
         row.operator("paint_relief.build_canvas", icon="MESH_PLANE").frame_range = settings.canvas_frame_range
         row.operator("paint_relief.reload_maps", icon="FILE_REFRESH")
         col = layout.column(heading="Add Camera Sets")
-        col.prop(settings, "camera_match_resolution")
-        col.prop(settings, "camera_standard_view")
+        _props(col, settings, "camera_match_resolution", "camera_standard_view")
         layout.operator("paint_relief.add_camera", icon="OUTLINER_OB_CAMERA")
 
 
@@ -159,10 +156,7 @@ class VIEW3D_PT_paint_relief_lighting(_PaintReliefPanel, Panel):
     def draw(self, context):
         layout = self._layout()
         settings = context.scene.paint_relief
-        layout.prop(settings, "light_azimuth")
-        layout.prop(settings, "light_elevation")
-        layout.prop(settings, "light_strength")
-        layout.prop(settings, "fill_light")
+        _props(layout, settings, "light_azimuth", "light_elevation", "light_strength", "fill_light")
         layout.operator("paint_relief.add_lights", icon="LIGHT_SUN")
 
 
@@ -176,14 +170,9 @@ class VIEW3D_PT_paint_relief_compare(_PaintReliefPanel, Panel):
     def draw(self, context):
         layout = self._layout()
         settings = context.scene.paint_relief
-        layout.prop(settings, "compare_azimuths")
-        layout.prop(settings, "compare_samples")
-        layout.prop(settings, "light_elevation")
-        layout.prop(settings, "compare_output_dir")
+        _props(layout, settings, "compare_azimuths", "compare_samples", "light_elevation", "compare_output_dir")
         if not settings.compare_output_dir and settings.painting_dir:
-            row = layout.row()
-            row.alignment = "RIGHT"
-            row.label(text=os.path.join(bpy.path.abspath(settings.painting_dir), "comparison"), icon="INFO")
+            _note(layout, os.path.join(bpy.path.abspath(settings.painting_dir), "comparison"))
         layout.operator("paint_relief.render_comparison", icon="RENDER_STILL")
 
 

@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Pure helpers of the add-on: settings text to values, physical sizes, grids, directions.
 
-Nothing here imports ``bpy`` (NumPy, and the painter's folder naming rule in
-``core.files.folders``, imported where needed), so these functions are tested
-without Blender. Lengths are metres unless a name says
-otherwise; angles are radians.
+Nothing here imports ``bpy`` (NumPy, and the painter's naming rules in
+``core.files.folders`` and ``core.files.shot_files``, imported where
+needed), so these functions are tested without Blender. Lengths are metres
+unless a name says otherwise; angles are radians.
 """
 
 import math
@@ -163,37 +163,58 @@ def film_size(map_width, map_height, longest):
     return max(1, round(map_width * scale)), max(1, round(map_height * scale))
 
 
-# --- painted sequences (addon/scene/animated.py) --------------------------------
+# --- painted shots (addon/scene/animated.py, Paint Animation) -----------------------
+# The folder's files and report.json follow core.files.shot_files, imported inside the functions.
 
-SEQUENCE_REPORT = "report.json"
+def _shot_report(folder):
+    """The report.json of the shot painted in ``folder``; None when it holds none, a still's, or one that cannot
+    be read."""
+    from ..core.files import shot_files
+
+    try:
+        report = shot_files.read_report(folder)
+    except (OSError, ValueError):
+        return None
+    return report if report is not None and shot_files.is_shot_report(report) else None
 
 
 def sequence_frames(folder):
-    """The frame numbers painted in ``folder`` when it holds a painted sequence, else None.
+    """The frame numbers painted in ``folder`` when it holds a painted shot, else None.
 
-    A painted sequence's report.json (``python -m core sequence``) has a
-    "sequence" key and lists its committed frames under "frames", in order
-    and running up by 1. None for a folder without report.json, with one
-    that cannot be read, or with a still painting's report.
+    A painted shot's report.json (``python -m core sequence``) lists its
+    committed frames under "frames", in order and running up by 1. None for
+    a folder without report.json, with one that cannot be read, or with a
+    still painting's report.
     """
-    import json
-    import os
-
-    try:
-        with open(os.path.join(folder, SEQUENCE_REPORT), encoding="utf-8") as file:
-            report = json.load(file)
-    except (OSError, ValueError):
-        return None
-    if not isinstance(report, dict) or "sequence" not in report or not isinstance(report.get("frames"), list):
+    report = _shot_report(folder)
+    if report is None or not isinstance(report.get("frames"), list):
         return None
     return [int(number) for number in report["frames"]]
 
 
-def sequence_map_name(map_name, number):
-    """The file of frame ``number`` of the map ``map_name`` in a painted sequence: ``color.exr``, 16 ->
-    ``color_0016.exr`` (the frame number zero-padded to 4 digits, more when it needs them)."""
-    stem, dot, suffix = map_name.rpartition(".")
-    return "{}_{:04d}{}{}".format(stem, int(number), dot, suffix)
+def sequence_folder_state(folder):
+    """What a painted folder holds, from its report.json: ``"empty"`` (no report: nothing painted yet, or no
+    folder), ``"still"`` (a still painting), ``"unfinished"`` or ``"complete"`` (a painted shot), or
+    ``"unreadable"`` (a report that cannot be read)."""
+    from ..core.files import shot_files
+
+    try:
+        report = shot_files.read_report(folder)
+    except (OSError, ValueError):
+        return "unreadable"
+    if report is None:
+        return "empty"
+    if not shot_files.is_shot_report(report):
+        return "still"
+    return "complete" if report.get("complete") else "unfinished"
+
+
+def sequence_folder_inputs(folder):
+    """The input frame files (as written in its report.json) of the shot painted in ``folder``; None when it
+    holds no readable shot report."""
+    report = _shot_report(folder)
+    inputs = report.get("input") if report is not None else None
+    return [str(path) for path in inputs] if isinstance(inputs, list) else None
 
 
 # --- where paintings go --------------------------------------------------------
@@ -216,49 +237,15 @@ def next_painting_folder(parent, image_path, digits=3):
 
 # --- image sequences and the scene's render (Paint Animation) ----------------------
 
-def numbered_file(path):
-    """How Blender reads an image sequence from one of its files: ``(pattern, number)``.
-
-    The last run of digits in the file name's stem is the frame number; the
-    pattern has it replaced by as many ``#`` (``/a/shot_0005.png`` ->
-    ``("/a/shot_####.png", 5)``). ValueError (one sentence) when the name
-    holds no digits.
-    """
-    import os
-    import re
-
-    folder, name = os.path.split(str(path))
-    stem, extension = os.path.splitext(name)
-    runs = list(re.finditer(r"\d+", stem))
-    if not runs:
-        raise ValueError("The file name {} holds no frame number, so it starts no image sequence.".format(name))
-    last = runs[-1]
-    pattern = stem[:last.start()] + "#" * (last.end() - last.start()) + stem[last.end():] + extension
-    return os.path.join(folder, pattern), int(last.group())
-
-
-def sequence_file(pattern, number):
-    """The file of frame ``number`` in a pattern whose last run of ``#`` is the zero-padded frame number
-    (more digits when the number needs them, as Blender writes): ``("shot_####.png", 12)`` -> ``"shot_0012.png"``."""
-    import os
-    import re
-
-    folder, name = os.path.split(str(pattern))
-    runs = list(re.finditer(r"#+", name))
-    if not runs:
-        raise ValueError("The frame pattern {} holds no '#' for the frame number.".format(name))
-    last = runs[-1]
-    digits = "{:0{}d}".format(number, last.end() - last.start())
-    return os.path.join(folder, name[:last.start()] + digits + name[last.end():])
-
-
 def render_file_stem(number):
     """The scene render's file name of frame ``number`` without its extension: ``frame_0012`` (the painter
     numbers the painted frames from it). ValueError (one sentence) for a negative frame."""
     if number < 0:
         raise ValueError("Frame {} is negative: Paint Animation renders frames from 0 on; move the scene's "
                          "frame range.".format(number))
-    return "frame_{:04d}".format(number)
+    from ..core.files import shot_files
+
+    return "frame" + shot_files.frame_suffix(number)
 
 
 def escape_render_path(path, templates):
@@ -276,26 +263,6 @@ def render_progress(rendered, count, painted):
     return 0.5 * min(rendered, count) / count + 0.5 * painted
 
 
-def sequence_folder_state(folder):
-    """What a painted folder holds, from its report.json: ``"empty"`` (no report: nothing painted yet, or no
-    folder), ``"still"`` (a still painting), ``"unfinished"`` or ``"complete"`` (a painted sequence), or
-    ``"unreadable"`` (a report that cannot be read)."""
-    import json
-    import os
-
-    path = os.path.join(str(folder), "report.json")
-    if not os.path.isfile(path):
-        return "empty"
-    try:
-        with open(path, encoding="utf-8") as stream:
-            report = json.load(stream)
-    except (OSError, ValueError):
-        return "unreadable"
-    if not isinstance(report, dict) or "sequence" not in report:
-        return "still"
-    return "complete" if report.get("complete") else "unfinished"
-
-
 def is_inside(path, parent):
     """True when the folder or file ``path`` is ``parent`` or lies inside it (symbolic links resolved)."""
     import os
@@ -305,18 +272,3 @@ def is_inside(path, parent):
         return os.path.commonpath([path, parent]) == parent
     except ValueError:  # different drives
         return False
-
-
-def sequence_folder_inputs(folder):
-    """The input frame files (as written in its report.json) of the sequence painted in ``folder``; None when
-    it holds no readable sequence report."""
-    import json
-    import os
-
-    try:
-        with open(os.path.join(str(folder), "report.json"), encoding="utf-8") as stream:
-            report = json.load(stream)
-    except (OSError, ValueError):
-        return None
-    inputs = report.get("input") if isinstance(report, dict) and "sequence" in report else None
-    return [str(path) for path in inputs] if isinstance(inputs, list) else None

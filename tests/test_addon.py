@@ -7,17 +7,15 @@ folder) and prints its findings as JSON; each test here asserts on one step.
 The pure helpers of addon/values.py are tested without Blender.
 """
 
-import importlib.util
-import json
 import math
 import os
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from addon_values import values
+from blender_run import need_bpy, run_checks
+from blender_run import step as _step
 
 REPO = Path(__file__).resolve().parent.parent
 HELPER = REPO / "tests" / "blender" / "addon_checks.py"
@@ -77,29 +75,13 @@ def test_wave_scale_for_period():
 
 # --- inside Blender ---------------------------------------------------------------
 
-def _need_bpy():
-    if importlib.util.find_spec("bpy") is None:
-        pytest.skip("the bpy module (Blender as a Python module) is not installed")
-
-
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
-    _need_bpy()
+    need_bpy()
     work = tmp_path_factory.mktemp("addon")
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user"))
-    run = subprocess.run([sys.executable, str(HELPER), str(work), "--render"],
-                         capture_output=True, text=True, timeout=600, env=env, cwd=work)
-    lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
-    assert run.returncode == 0 and lines, "addon_checks.py failed:\n{}\n{}".format(run.stdout[-4000:], run.stderr[-4000:])
-    found = json.loads(lines[-1][len("RESULTS "):])
+    found = run_checks(HELPER, work, work, "--render")
     found["work"] = str(work)
     return found
-
-
-def _step(results, name):
-    step = results[name]
-    assert "exception" not in step, step.get("exception")
-    return step
 
 
 @pytest.mark.blender

@@ -9,16 +9,16 @@ process; BLENDER_USER_RESOURCES in a temporary folder); each test asserts on
 one of its findings. The pure helpers of addon/values.py are tested without Blender.
 """
 
-import importlib.util
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 from addon_values import values
+from blender_run import need_bpy, run_checks
+from blender_run import step as _step
 from tiny_shot import HEIGHT, WIDTH, shot
+
+from core.files import shot_files
 
 REPO = Path(__file__).resolve().parent.parent
 HELPER = REPO / "tests" / "blender" / "animated_checks.py"
@@ -26,10 +26,10 @@ HELPER = REPO / "tests" / "blender" / "animated_checks.py"
 
 # --- pure helpers -------------------------------------------------------------
 
-def test_sequence_map_names_number_frames_as_the_painter_does():
-    assert values.sequence_map_name("color.exr", 1) == "color_0001.exr"
-    assert values.sequence_map_name("height.exr", 16) == "height_0016.exr"
-    assert values.sequence_map_name("opacity.exr", 12345) == "opacity_12345.exr"
+def test_map_names_number_frames_as_the_painter_does():
+    assert shot_files.numbered_name("color.exr", 1) == "color_0001.exr"
+    assert shot_files.numbered_name("height.exr", 16) == "height_0016.exr"
+    assert shot_files.numbered_name("opacity.exr", 12345) == "opacity_12345.exr"
 
 
 def test_sequence_frames_reads_a_sequence_report_only(tmp_path):
@@ -46,23 +46,10 @@ def test_sequence_frames_reads_a_sequence_report_only(tmp_path):
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
-    if importlib.util.find_spec("bpy") is None:
-        pytest.skip("the bpy module (Blender as a Python module) is not installed")
+    need_bpy()
     work = tmp_path_factory.mktemp("animated")
     shot(work / "frames")
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user"))
-    run = subprocess.run([sys.executable, str(HELPER), str(work)], capture_output=True, text=True, timeout=600,
-                         env=env, cwd=work)
-    lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
-    assert run.returncode == 0 and lines, "animated_checks.py failed:\n{}\n{}".format(run.stdout[-4000:],
-                                                                                     run.stderr[-4000:])
-    return json.loads(lines[-1][len("RESULTS "):])
-
-
-def _step(results, name):
-    step = results[name]
-    assert "exception" not in step, step.get("exception")
-    return step
+    return run_checks(HELPER, work, work)
 
 
 @pytest.mark.blender

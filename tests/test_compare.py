@@ -10,10 +10,8 @@ BLENDER_USER_RESOURCES in a temporary folder:
 The pure helpers of addon/values.py are tested without Blender.
 """
 
-import importlib.util
 import json
 import math
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -21,6 +19,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 from addon_values import values
+from blender_run import need_bpy, run_checks, user_env
+from blender_run import step as _step
+from oracles import one_sentence_run
 
 from core.colour import linear_to_srgb, luminance, srgb_to_linear
 from core.files import reading, writing
@@ -63,31 +64,11 @@ def test_relief_pixels():
 
 # --- inside Blender -------------------------------------------------------------
 
-def _need_bpy():
-    if importlib.util.find_spec("bpy") is None:
-        pytest.skip("the bpy module (Blender as a Python module) is not installed")
-
-
-def _env(work):
-    return dict(os.environ, BLENDER_USER_RESOURCES=str(Path(work) / "blender_user"))
-
-
 @pytest.fixture(scope="module")
 def checks(tmp_path_factory):
-    _need_bpy()
+    need_bpy()
     work = tmp_path_factory.mktemp("compare_checks")
-    run = subprocess.run([sys.executable, str(CHECKS), str(work)], capture_output=True, text=True, timeout=600,
-                         env=_env(work), cwd=work)
-    lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
-    assert run.returncode == 0 and lines, "compare_checks.py failed:\n{}\n{}".format(run.stdout[-4000:],
-                                                                                    run.stderr[-4000:])
-    return json.loads(lines[-1][len("RESULTS "):])
-
-
-def _step(checks, name):
-    step = checks[name]
-    assert "exception" not in step, step.get("exception")
-    return step
+    return run_checks(CHECKS, work, work)
 
 
 @pytest.mark.blender
@@ -143,12 +124,12 @@ def _photo(path, w=48, h=32):
 
 def _compare(args, work, timeout=600):
     return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, env=_env(work), cwd=work)
+                          timeout=timeout, env=user_env(work), cwd=work)
 
 
 @pytest.fixture(scope="module")
 def end_to_end(tmp_path_factory):
-    _need_bpy()
+    need_bpy()
     work = tmp_path_factory.mktemp("compare_script")
     photo = _photo(work / "photo.png", 64, 48)
     out = work / "out"
@@ -208,17 +189,9 @@ def test_compare_script_figures_recomputed_from_its_renders(end_to_end):
 
 # --- bad input ----------------------------------------------------------------------
 
-def _one_sentence(run):
-    lines = [line for line in run.stderr.splitlines() if line.strip()]
-    assert run.returncode != 0
-    assert len(lines) == 1 and lines[0].rstrip().endswith("."), run.stderr
-    assert "Traceback" not in run.stderr
-    return lines[0]
-
-
 @pytest.mark.blender
-def test_compare_script_bad_input_ends_with_one_sentence(tmp_path):
-    _need_bpy()
+def test_compare_script_bad_input_ends_withone_sentence_run(tmp_path):
+    need_bpy()
     photo = _photo(tmp_path / "photo.png")
     broken = tmp_path / "broken.png"
     broken.write_bytes(b"not a picture\n" * 10)
@@ -226,13 +199,13 @@ def test_compare_script_bad_input_ends_with_one_sentence(tmp_path):
     blocker.write_text("a file where a folder should be")
     out = tmp_path / "out"
 
-    assert "required" in _one_sentence(_compare([], tmp_path))
+    assert "required" in one_sentence_run(_compare([], tmp_path))
     # Blender's launcher: the script's arguments follow "--" (here without an image).
-    assert "INPUT" in _one_sentence(_compare(["--", "-o", out], tmp_path))
-    assert "no_such.png" in _one_sentence(_compare([tmp_path / "no_such.png", "-o", out], tmp_path))
-    assert "broken.png" in _one_sentence(_compare([broken, "-o", out], tmp_path))
+    assert "INPUT" in one_sentence_run(_compare(["--", "-o", out], tmp_path))
+    assert "no_such.png" in one_sentence_run(_compare([tmp_path / "no_such.png", "-o", out], tmp_path))
+    assert "broken.png" in one_sentence_run(_compare([broken, "-o", out], tmp_path))
     assert not out.exists()  # a bad image is found before any output is written
-    assert "a_file" in _one_sentence(_compare([photo, "-o", blocker / "out"], tmp_path))
-    text = _one_sentence(_compare(["--", photo, "-o", out, "--azimuths", "0"], tmp_path))
+    assert "a_file" in one_sentence_run(_compare([photo, "-o", blocker / "out"], tmp_path))
+    text = one_sentence_run(_compare(["--", photo, "-o", out, "--azimuths", "0"], tmp_path))
     assert "at least 1 azimuth" in text
     assert not out.exists()

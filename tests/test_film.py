@@ -8,7 +8,6 @@ from the written frames by tests/test_film_figures.py's kind of check
 in core; here the whole run, its files, its scene and its refusals.
 """
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -16,6 +15,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from blender_run import need_bpy, user_env
+from oracles import one_sentence_run
 from tiny_shot import FIRST, FRAMES, shot
 
 from core.evaluation.film import read_relit
@@ -28,23 +29,14 @@ NUMBERS = list(range(FIRST, FIRST + FRAMES))
 FILM_W, FILM_H = 64, 43  # the tiny shot's 96 x 64 px with a longer side of 64 px
 
 
-def _need_bpy():
-    if importlib.util.find_spec("bpy") is None:
-        pytest.skip("the bpy module (Blender as a Python module) is not installed")
-
-
-def _env(work):
-    return dict(os.environ, BLENDER_USER_RESOURCES=str(Path(work) / "blender_user"))
-
-
 def _animate(args, work, timeout=600):
     return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, env=_env(work), cwd=work)
+                          timeout=timeout, env=user_env(work), cwd=work)
 
 
 @pytest.fixture(scope="module")
 def end_to_end(tmp_path_factory):
-    _need_bpy()
+    need_bpy()
     work = tmp_path_factory.mktemp("animate")
     frames = shot(work / "frames")
     out = work / "out"
@@ -55,7 +47,7 @@ def end_to_end(tmp_path_factory):
     again = _animate([out / "painted", "-o", work / "again", "--samples", 2, "--size", 64, "--azimuth", 0], work)
     assert again.returncode == 0, again.stdout[-3000:] + again.stderr[-3000:]
     blend = subprocess.run([sys.executable, str(BLEND_CHECKS), str(out / "scene.blend")], capture_output=True,
-                           text=True, timeout=300, env=_env(work), cwd=work)
+                           text=True, timeout=300, env=user_env(work), cwd=work)
     lines = [line for line in blend.stdout.splitlines() if line.startswith("RESULTS ")]
     assert blend.returncode == 0 and lines, blend.stdout[-3000:] + blend.stderr[-3000:]
     return {"work": work, "out": out, "first": first, "again": again, "painted_bytes": painted_bytes,
@@ -145,17 +137,9 @@ def test_the_movie_where_blender_has_ffmpeg(end_to_end):
 
 # --- bad input ----------------------------------------------------------------------
 
-def _one_sentence(run):
-    lines = [line for line in run.stderr.splitlines() if line.strip()]
-    assert run.returncode != 0
-    assert len(lines) == 1 and lines[0].rstrip().endswith("."), run.stderr
-    assert "Traceback" not in run.stderr
-    return lines[0]
-
-
 @pytest.mark.blender
-def test_bad_input_ends_with_one_sentence(tmp_path):
-    _need_bpy()
+def test_bad_input_ends_withone_sentence_run(tmp_path):
+    need_bpy()
     empty = tmp_path / "empty"
     empty.mkdir()
     blocker = tmp_path / "a_file"
@@ -163,12 +147,12 @@ def test_bad_input_ends_with_one_sentence(tmp_path):
     frames = shot(tmp_path / "frames", frames=2)
     out = tmp_path / "out"
 
-    assert "required" in _one_sentence(_animate([], tmp_path))
-    assert "no_such_folder" in _one_sentence(_animate([tmp_path / "no_such_folder", "-o", out], tmp_path))
+    assert "required" in one_sentence_run(_animate([], tmp_path))
+    assert "no_such_folder" in one_sentence_run(_animate([tmp_path / "no_such_folder", "-o", out], tmp_path))
     assert not out.exists()
-    assert "empty" in _one_sentence(_animate([empty, "-o", out], tmp_path))
-    assert "a_file" in _one_sentence(_animate([frames, "-o", blocker / "out"], tmp_path))
+    assert "empty" in one_sentence_run(_animate([empty, "-o", out], tmp_path))
+    assert "a_file" in one_sentence_run(_animate([frames, "-o", blocker / "out"], tmp_path))
     run = _animate(["--", frames, "-o", out, "--samples", "0"], tmp_path)
-    assert run.returncode == 2 and "at least 1" in _one_sentence(run)
+    assert run.returncode == 2 and "at least 1" in one_sentence_run(run)
     run = _animate([frames, "-o", out, "--elevation", "95"], tmp_path)
-    assert run.returncode == 2 and "elevation" in _one_sentence(run)
+    assert run.returncode == 2 and "elevation" in one_sentence_run(run)

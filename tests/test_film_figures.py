@@ -18,11 +18,11 @@ from core.errors import InputError
 from core.evaluation.film import (
     area_weights,
     film_figures,
-    frame_file,
     resize_area,
     resize_motion,
     run_film,
 )
+from core.evaluation.film_files import frame_file
 from core.files import reading, writing
 from core.lighting import paper_lighting
 from core.motion import optical_flow, visible_in_both, warping_error

@@ -36,12 +36,12 @@ CORE_LAYERS = [
 ]
 
 # addon's layers, lowest first, by the same rule. The base is what every part shares (pure helpers, the painter's
-# libraries); the scene builders come next; the settings sit above them because their update callbacks change the
+# libraries, the long operators' modal skeleton, the command lines' helpers); the scene builders come next; the settings sit above them because their update callbacks change the
 # canvas and lights; the operators of painting and of the comparison read the settings; the relit film (film)
 # renders with the comparison's settings; the sidebar names them all;
 # the command line and the package's register/unregister are the entry points.
 ADDON_LAYERS = [
-    ("base", {"addon.values", "addon.dependencies"}),
+    ("base", {"addon.values", "addon.dependencies", "addon.modal_job", "addon.command_line"}),
     ("scene", {"addon.scene"}),
     ("settings", {"addon.settings"}),
     ("painting", {"addon.painting"}),

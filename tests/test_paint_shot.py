@@ -8,16 +8,17 @@ findings as JSON; each test here asserts on one step. The pure helpers of
 addon/values.py are tested without Blender.
 """
 
-import importlib.util
 import json
 import os
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 from addon_values import values
+from blender_run import need_bpy, run_checks
+from oracles import one_sentence
+
+from core.files import shot_files
 
 REPO = Path(__file__).resolve().parent.parent
 HELPER = REPO / "tests" / "blender" / "paint_shot_checks.py"
@@ -26,16 +27,16 @@ HELPER = REPO / "tests" / "blender" / "paint_shot_checks.py"
 # --- pure helpers -------------------------------------------------------------
 
 def test_numbered_file_reads_the_last_run_of_digits_as_blender_does():
-    assert values.numbered_file("/a/shot_0005.png") == ("/a/shot_####.png", 5)
-    assert values.numbered_file("/a/take2_v3_012.exr") == ("/a/take2_v3_###.exr", 12)
+    assert shot_files.numbered_file("/a/shot_0005.png") == ("/a/shot_####.png", 5)
+    assert shot_files.numbered_file("/a/take2_v3_012.exr") == ("/a/take2_v3_###.exr", 12)
     with pytest.raises(ValueError, match="holds no frame number"):
-        values.numbered_file("/a/still.png")
+        shot_files.numbered_file("/a/still.png")
 
 
-def test_sequence_file_pads_and_grows_as_blender_writes():
-    assert values.sequence_file("/a/shot_####.png", 12) == "/a/shot_0012.png"
-    assert values.sequence_file("/a/shot_##.png", 123) == "/a/shot_123.png"
-    assert values.sequence_file(*values.numbered_file("/b/f_007.exr")) == "/b/f_007.exr"
+def test_pattern_file_pads_and_grows_as_blender_writes():
+    assert shot_files.pattern_file("/a/shot_####.png", 12) == "/a/shot_0012.png"
+    assert shot_files.pattern_file("/a/shot_##.png", 123) == "/a/shot_123.png"
+    assert shot_files.pattern_file(*shot_files.numbered_file("/b/f_007.exr")) == "/b/f_007.exr"
 
 
 def test_render_file_names_refuse_negative_frames():
@@ -81,16 +82,9 @@ def test_is_inside(tmp_path):
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
-    if importlib.util.find_spec("bpy") is None:
-        pytest.skip("the bpy module (Blender as a Python module) is not installed")
+    need_bpy()
     work = tmp_path_factory.mktemp("animation")
-    env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user"))
-    run = subprocess.run([sys.executable, str(HELPER), str(work / "checks")], capture_output=True, text=True,
-                         timeout=600, env=env, cwd=work)
-    lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
-    assert run.returncode == 0 and lines, "paint_shot_checks.py failed:\n{}\n{}".format(run.stdout[-4000:],
-                                                                                     run.stderr[-4000:])
-    return json.loads(lines[-1][len("RESULTS "):])
+    return run_checks(HELPER, work, work / "checks")
 
 
 def _step(results, name, painter=False):
@@ -102,17 +96,7 @@ def _step(results, name, painter=False):
 
 
 def _frame_files(number):
-    suffix = "_{:04d}".format(number)
-    return {"painting{}.png".format(suffix)} | {"{}{}.exr".format(name, suffix)
-                                                for name in ("color", "height", "opacity", "orientation")}
-
-
-def one_sentence(report):
-    """The text of an operator's report (Blender prefixes "Error: " headless) when it is one sentence."""
-    text = report.strip()
-    text = text[len("Error: "):] if text.startswith("Error: ") else text
-    assert text.endswith(".") and "\n" not in text and not re.search(r"[.!?]\s+[A-Z]", text), report
-    return text
+    return set(shot_files.frame_file_names(number, normal_map=False))
 
 
 @pytest.mark.blender

@@ -42,74 +42,25 @@ unexpected Python exception in the script end Blender with 1 as well.
 
 import argparse
 import importlib
-import importlib.util
-import math
 import os
 import sys
 import time
 from pathlib import Path
 
+from .. import command_line
+
 DEFAULT_SIZE = 384
-CANVAS_WIDTH_CM = 40.0
-# Brightness of the key light on a flat canvas: white paint renders at 1.0, so the renders stay well
-# above the comparison's dark-pixel threshold.
-KEY_BRIGHTNESS = 1.0
-
-
-class Failure(Exception):
-    """The run cannot go on; the message is one sentence."""
-
-
-class Parser(argparse.ArgumentParser):
-    """argparse, but a malformed command line ends with ONE sentence (no usage block) and exit code 2."""
-
-    def error(self, message):
-        message = message.rstrip(".")
-        self.exit(2, "{}: {} (see --help).\n".format(self.prog, message[:1].upper() + message[1:]))
 
 
 def _azimuth_count(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("the light sweep's azimuth count must be a whole number, got {!r}".format(text)) from None
+    value = command_line.number(text, int, "the light sweep's azimuth count must be a whole number, got {!r}")
     if value < 1:
         raise argparse.ArgumentTypeError("a light sweep needs at least 1 azimuth, got {}".format(value))
     return value
 
 
-def positive_int(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a whole number".format(text)) from None
-    if value < 1:
-        raise argparse.ArgumentTypeError("{} must be at least 1".format(value))
-    return value
-
-
-def elevation_degrees(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of degrees".format(text)) from None
-    if not 0.0 < value <= 90.0:
-        raise argparse.ArgumentTypeError("the light elevation must be above 0 and at most 90 degrees, got {:g}".format(value))
-    return value
-
-
-def thickness_millimetres(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of millimetres".format(text)) from None
-    if not value > 0.0:
-        raise argparse.ArgumentTypeError("the paint thickness must be above 0 mm, got {:g}".format(value))
-    return value
-
-
 def build_parser():
-    parser = Parser(
+    parser = command_line.Parser(
         prog="compare.py",
         description="Paint INPUT, render its canvas in Cycles under a sweep of raking lights with and without "
                     "relief, and compare the renders with the painter's 2-D lighting models.",
@@ -120,63 +71,17 @@ def build_parser():
                         help="output folder: painting/, renders/, scene.blend and the comparison files")
     parser.add_argument("--azimuths", type=_azimuth_count, default=8, metavar="N",
                         help="number of light azimuths, evenly spaced from 0 degrees (default 8)")
-    parser.add_argument("--elevation", type=elevation_degrees, default=30.0, metavar="DEG",
+    parser.add_argument("--elevation", type=command_line.elevation_degrees, default=30.0, metavar="DEG",
                         help="light elevation above the canvas in degrees (default 30)")
-    parser.add_argument("--size", type=positive_int, default=DEFAULT_SIZE, metavar="PX",
+    parser.add_argument("--size", type=command_line.positive_int, default=DEFAULT_SIZE, metavar="PX",
                         help="the input is scaled so its longer side is at most this many pixels before painting; "
                              "maps and renders have that size (default {})".format(DEFAULT_SIZE))
-    parser.add_argument("--samples", type=positive_int, default=16, metavar="N",
+    parser.add_argument("--samples", type=command_line.positive_int, default=16, metavar="N",
                         help="Cycles samples per pixel (default 16)")
-    parser.add_argument("--method", choices=("MESH", "CYCLES_ADAPTIVE"), default="MESH",
-                        help="how the relief becomes geometry (default MESH)")
-    parser.add_argument("--thickness-mm", type=thickness_millimetres, default=2.0, metavar="MM",
-                        help="height in millimetres of paint of height 1 (default 2)")
+    command_line.add_canvas_arguments(parser)
     parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
     parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return parser
-
-
-def script_arguments(argv):
-    """The script's own arguments: those after "--" when there is one (Blender), else argv[1:]."""
-    return argv[argv.index("--") + 1:] if "--" in argv else argv[1:]
-
-
-class Log:
-    """Progress lines and step times on stdout (nothing with --quiet)."""
-
-    def __init__(self, quiet):
-        self.quiet = quiet
-        self.times = []
-        self.stream = None  # a file to print to instead of sys.stdout
-        self._start = None
-        self._name = None
-
-    def say(self, text):
-        if not self.quiet:
-            print(text, file=self.stream or sys.stdout, flush=True)
-
-    def step(self, name, text):
-        self.end()
-        self._name, self._start = name, time.perf_counter()
-        self.say("[{}] {}".format(name, text))
-
-    def end(self):
-        if self._name is not None:
-            self.times.append((self._name, time.perf_counter() - self._start))
-            self._name = None
-
-
-def load_extension():
-    """The Paint Relief package this module belongs to, with its operators registered (registered here if not)."""
-    import bpy
-
-    package = importlib.import_module(__name__.rpartition(".addon.")[0])
-    if not hasattr(bpy.types, "PAINT_RELIEF_OT_build_canvas"):
-        package.register()
-    missing = package.addon.dependencies.problem()
-    if missing is not None:
-        raise Failure(missing)
-    return package, os.path.dirname(os.path.abspath(package.__file__))
 
 
 def scaled_input(core, image, out_dir, size):
@@ -231,39 +136,10 @@ def _map_size(painting_dir, core):
     return data.shape[1], data.shape[0]
 
 
-def run_operator(operator):
-    """Run a Paint Relief operator; Failure with its one-sentence report when it does not finish."""
-    try:
-        result = operator()
-    except RuntimeError as error:  # an operator's ERROR report raises in background mode
-        text = str(error).strip()
-        raise Failure(text[len("Error: "):] if text.startswith("Error: ") else text) from None
-    if "FINISHED" not in result:
-        raise Failure("The operator {} did not finish.".format(operator.idname_py()))
-
-
 def stage_scene(package, args, painting_dir, azimuths):
-    """An empty scene with the canvas, the key light and the camera, through the extension's operators."""
-    import bpy
-
-    scene = bpy.context.scene
-    for obj in list(scene.objects):  # the start-up file's cube, light and camera
-        bpy.data.objects.remove(obj)
-    settings = scene.paint_relief
-    settings.painting_dir = str(painting_dir)
-    settings.canvas_width_cm = CANVAS_WIDTH_CM
-    settings.thickness_mm = args.thickness_mm
-    settings.displacement_method = args.method
-    settings.light_azimuth = math.radians(azimuths[0])
-    settings.light_elevation = math.radians(args.elevation)
-    settings.light_strength = KEY_BRIGHTNESS
-    settings.fill_light = False
-    settings.camera_match_resolution = True  # the comparison renders one pixel per map pixel
-    settings.camera_standard_view = True
-    ops = bpy.ops.paint_relief
-    run_operator(ops.build_canvas)
-    run_operator(ops.add_lights)
-    run_operator(ops.add_camera)
+    """An empty scene with the canvas, the key light at the first azimuth and the camera (one render pixel per
+    map pixel), set to render the sweep; returns the canvas."""
+    scene = command_line.stage_canvas(painting_dir, args, azimuths[0])
     package.addon.comparison.compare.configure_render(scene, args.samples)
     return package.addon.scene.canvas.find_role(scene, "canvas")
 
@@ -273,19 +149,19 @@ def main(argv, prog=None):
     parser = build_parser()
     if prog:
         parser.prog = prog
-    args = parser.parse_args(script_arguments(argv))
-    log = Log(args.quiet)
+    args = parser.parse_args(command_line.script_arguments(argv))
+    log = command_line.Log(args.quiet)
     started = time.perf_counter()
     try:
         input_path = Path(args.input)
         if not input_path.is_file():
-            raise Failure("The input image {} does not exist.".format(input_path)
+            raise command_line.Failure("The input image {} does not exist.".format(input_path)
                           if not input_path.exists() else "The input {} is not a file.".format(input_path))
 
         log.step("extension", "Loading the Paint Relief extension")
         import bpy
 
-        package, where = load_extension()
+        package, where = command_line.load_extension()
         core = importlib.import_module(package.__name__ + ".core")
         reading = importlib.import_module(core.__name__ + ".files.reading")
         writing = importlib.import_module(core.__name__ + ".files.writing")
@@ -304,7 +180,7 @@ def main(argv, prog=None):
 
         log.step("scene", "Building the canvas, the key light and the camera ({}, {:g} mm paint)".format(
             args.method, args.thickness_mm))
-        with quiet_stdout(args.quiet):
+        with command_line.quiet_stdout(args.quiet):
             canvas_obj = stage_scene(package, args, painting_dir, azimuths)
         compare = package.addon.comparison.compare
 
@@ -315,12 +191,12 @@ def main(argv, prog=None):
         def progress(fraction, message):
             log.say("    {:3.0f}% {}".format(100 * fraction, message))
 
-        with quiet_stdout(args.quiet):
+        with command_line.quiet_stdout(args.quiet):
             compare.render_sweep(bpy.context, canvas_obj, azimuths, args.elevation, str(renders_dir), args.samples,
                                  progress=progress)
 
         log.step("blend", "Saving {}".format(out_dir / "scene.blend"))
-        with quiet_stdout(args.quiet):
+        with command_line.quiet_stdout(args.quiet):
             bpy.ops.wm.save_as_mainfile(filepath=str(out_dir / "scene.blend"), check_existing=False)
 
         log.step("comparison", "Comparing the renders with the 2-D lighting models")
@@ -330,14 +206,10 @@ def main(argv, prog=None):
     except SystemExit:
         raise
     except Exception as error:  # every failure ends with one sentence
-        sys.stderr.write(sentence(error) + "\n")
+        sys.stderr.write(command_line.sentence(error, "compare.py") + "\n")
         return 1
 
-    log.say("")
-    log.say("Seconds per step:")
-    for name, seconds in log.times:
-        log.say("    {:<11} {:7.1f}".format(name, seconds))
-    log.say("    {:<11} {:7.1f}".format("total", time.perf_counter() - started))
+    log.seconds(started)
     best = result.get("best_azimuth_deg")
     if best is not None:
         log.say("The paper's lighting matches the relief best with the light at {:g} degrees (r = {:+.3f})."
@@ -345,53 +217,3 @@ def main(argv, prog=None):
     log.say("Pictures: {0}/comparison.png, {0}/correlation.png, {0}/light_sweep.gif; figures: {0}/comparison.md, "
             "{0}/comparison.json; renders in {0}/renders, the scene in {0}/scene.blend".format(out_dir))
     return 0
-
-
-# The exceptions whose messages are sentences for the user as they stand.
-USER_ERRORS = ("Failure", "SweepError", "FilmError", "CanvasError", "InputError", "OutputError", "ParameterError",
-               "PaintReliefError", "Cancelled", "ValueError", "OSError")
-
-
-def sentence(error, prog="compare.py"):
-    """One sentence for an exception: its own message when it has one (prefixed "``prog`` failed:" unless it is
-    one of USER_ERRORS), else its kind."""
-    text = " ".join(str(error).split())
-    if isinstance(error, OSError) and error.strerror:
-        text = "{}{}.".format(error.strerror, ": " + str(error.filename) if error.filename else "")
-    if not text:
-        text = "{} failed with {}.".format(prog, type(error).__name__)
-    elif type(error).__name__ not in USER_ERRORS:
-        text = "{} failed: {}".format(prog, text)
-    return text if text.endswith(".") else text + "."
-
-
-class quiet_stdout:
-    """With --quiet, silence what Blender itself prints (render statistics, 'Saved: ...') on file descriptor 1.
-
-    Given a ``log``, its lines still reach the real standard output meanwhile.
-    """
-
-    def __init__(self, quiet, log=None):
-        self.quiet = quiet
-        self.log = log
-
-    def __enter__(self):
-        if self.quiet:
-            sys.stdout.flush()
-            self._saved = os.dup(1)
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, 1)
-            os.close(devnull)
-            if self.log is not None:
-                self.log.stream = os.fdopen(os.dup(self._saved), "w")
-        return self
-
-    def __exit__(self, *exc):
-        if self.quiet:
-            sys.stdout.flush()
-            os.dup2(self._saved, 1)
-            os.close(self._saved)
-            if self.log is not None:
-                self.log.stream.close()
-                self.log.stream = None
-        return False

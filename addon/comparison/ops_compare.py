@@ -10,8 +10,8 @@ comparison.json, comparison.md, comparison.png, correlation.png,
 light_sweep.gif.
 
 Headless (``bpy.app.background``) and from scripts, ``execute()`` does the
-whole job. Interactively, ``invoke()`` renders one image per modal timer
-step, so the window manager's progress bar and the status bar move between
+whole job. Interactively (``addon/modal_job.py``), one image is rendered per
+modal timer step, so the window manager's progress bar and the status bar move between
 renders and Esc stops the sweep (the scene is restored either way).
 Problems are reported in one sentence, never as a traceback.
 """
@@ -23,12 +23,13 @@ import bpy
 from bpy.types import Operator
 
 from .. import dependencies, values
+from ..modal_job import ModalJob
 from ..scene import camera, canvas, lighting
 from ..settings import properties
 from . import compare
 
-# Seconds between the modal operator's steps (one render per step).
-TIMER_INTERVAL = 0.05
+SWEEP_SHARE = 0.9
+"""The share of the progress bar the renders fill; comparing them fills the rest."""
 # Files of a painted folder the comparison reads.
 COMPARISON_MAPS = ("color.exr", "height.exr", "orientation.exr")
 
@@ -119,13 +120,14 @@ def _summary(job, result):
     return text
 
 
-class PAINT_RELIEF_OT_render_comparison(Operator):
+class PAINT_RELIEF_OT_render_comparison(ModalJob, Operator):
     """Render the canvas under a sweep of key light directions with and without relief, and compare the renders
     with the painter's 2-D lighting (figures, charts and an animated sweep)"""
 
     bl_idname = "paint_relief.render_comparison"
     bl_label = "Render Comparison"
     bl_options = {"REGISTER"}
+    timer_interval = 0.05  # one render per timer event
 
     @classmethod
     def poll(cls, context):
@@ -143,9 +145,8 @@ class PAINT_RELIEF_OT_render_comparison(Operator):
         self.report({"INFO"}, _summary(job, result))
         return {"FINISHED"}
 
-    def invoke(self, context, event):
-        if bpy.app.background:
-            return self.execute(context)
+    def begin_modal(self, context):
+        """Check, then start the timer that renders one image of the sweep per event."""
         try:
             self._job = prepare(context)
             self._steps = compare.sweep_steps(context, self._job.canvas, self._job.azimuths, self._job.elevation_deg,
@@ -153,62 +154,48 @@ class PAINT_RELIEF_OT_render_comparison(Operator):
         except Exception as error:
             self.report({"ERROR"}, _message(error, "Preparing the comparison"))
             return {"CANCELLED"}
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(TIMER_INTERVAL, window=context.window)
-        wm.progress_begin(0, 100)
-        wm.modal_handler_add(self)
+        self.start_timer(context)
         context.workspace.status_text_set("Paint Relief: preparing the light sweep (Esc to cancel)")
         return {"RUNNING_MODAL"}
 
-    def modal(self, context, event):
-        if event.type == "ESC":
-            self._steps.close()  # restores the scene
-            self._end(context)
-            self.report({"WARNING"}, "The comparison was cancelled; the renders made so far are in {}.".format(
-                self._job.renders_dir))
-            return {"CANCELLED"}
-        if event.type != "TIMER":
-            return {"PASS_THROUGH"}
-        wm = context.window_manager
+    def escape(self, context):
+        self._steps.close()  # restores the scene
+        self.end_modal(context)
+        self.report({"WARNING"}, "The comparison was cancelled; the renders made so far are in {}.".format(
+            self._job.renders_dir))
+        return {"CANCELLED"}
+
+    def step(self, context):
         try:
             done, total, message = next(self._steps)  # renders the previous step's image
         except StopIteration:
-            pass
+            return self._compare(context)
         except Exception as error:
             self._steps.close()
-            self._end(context)
-            self.report({"ERROR"}, _message(error, "Rendering the comparison"))
-            return {"CANCELLED"}
-        else:
-            wm.progress_update(int(90 * done / total))
-            context.workspace.status_text_set("Paint Relief: {} (Esc to cancel)".format(message))
-            return {"RUNNING_MODAL"}
+            return self._fail(context, error, "Rendering the comparison")
+        self.show(context, SWEEP_SHARE * done / total, "{} (Esc to cancel)".format(message), percent=False)
+        return {"RUNNING_MODAL"}
 
-        # All renders are done: compare them (NumPy, a few seconds).
-        wm.progress_update(90)
-        context.workspace.status_text_set("Paint Relief: comparing the renders with the 2-D lighting")
+    def _compare(self, context):
+        """All renders are done: compare them (NumPy, a few seconds)."""
+        self.show(context, SWEEP_SHARE, "comparing the renders with the 2-D lighting", percent=False)
         try:
             result = finish(self._job)
         except Exception as error:
-            self._end(context)
-            self.report({"ERROR"}, _message(error, "Comparing the renders"))
-            return {"CANCELLED"}
-        self._end(context)
+            return self._fail(context, error, "Comparing the renders")
+        self.end_modal(context)
         self.report({"INFO"}, _summary(self._job, result))
         return {"FINISHED"}
+
+    def _fail(self, context, error, doing):
+        self.end_modal(context)
+        self.report({"ERROR"}, _message(error, doing))
+        return {"CANCELLED"}
 
     def cancel(self, context):
         """Blender ends the operator (e.g. the file closes): stop the sweep and clean up."""
         self._steps.close()
-        self._end(context)
-
-    def _end(self, context):
-        wm = context.window_manager
-        if getattr(self, "_timer", None) is not None:
-            wm.event_timer_remove(self._timer)
-            self._timer = None
-            wm.progress_end()
-        context.workspace.status_text_set(None)
+        self.end_modal(context)
 
 
 classes = (PAINT_RELIEF_OT_render_comparison,)

@@ -14,7 +14,7 @@ FRAMES is footage (a folder of frames, a ``#`` pattern such as
 folder already painted by ``python -m core sequence``. Steps, each printed
 with its time:
 
-1. load the extension (as ``compare_command``);
+1. load the extension (``addon/command_line.py``);
 2. paint: footage is painted with ``core.paint_sequence_files`` into
    ``OUTDIR/painted`` at the footage's size (a run stopped part way goes on
    after its last complete frame; a painted folder is used as it is);
@@ -39,27 +39,13 @@ the painter's ``light`` command and ``compare.py``. A bad input ends with one
 sentence on stderr and exit code 1 (2 for a malformed command line).
 """
 
-import argparse
 import importlib
 import os
 import sys
 import time
 from pathlib import Path
 
-from ..comparison.compare_command import (
-    CANVAS_WIDTH_CM,
-    KEY_BRIGHTNESS,
-    Failure,
-    Log,
-    Parser,
-    elevation_degrees,
-    load_extension,
-    positive_int,
-    quiet_stdout,
-    script_arguments,
-    sentence,
-    thickness_millimetres,
-)
+from .. import command_line
 
 DEFAULT_SIZE = 480
 DEFAULT_SAMPLES = 16
@@ -69,14 +55,11 @@ DEFAULT_ELEVATION = 30.0
 
 
 def _azimuth(text):
-    try:
-        return float(text) % 360.0
-    except ValueError:
-        raise argparse.ArgumentTypeError("{!r} is not a number of degrees".format(text)) from None
+    return command_line.number(text, float, "{!r} is not a number of degrees") % 360.0
 
 
 def build_parser(prog="animate.py"):
-    parser = Parser(
+    parser = command_line.Parser(
         prog=prog,
         description="Paint a shot (or take a painted sequence), build its animated relief canvas in Blender, render "
                     "every frame with Cycles under a raking light, light it with the paper's 2-D model too, and "
@@ -89,20 +72,17 @@ def build_parser(prog="animate.py"):
     parser.add_argument("-o", "--output", metavar="OUTDIR", required=True,
                         help="output folder: painted/, relit/, paper/, side_by_side/, animation.gif, animation.mp4, "
                              "animation.json, animation.md, scene.blend")
-    parser.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
+    parser.add_argument("--samples", type=command_line.positive_int, default=DEFAULT_SAMPLES, metavar="N",
                         help="Cycles samples per pixel (default {})".format(DEFAULT_SAMPLES))
-    parser.add_argument("--size", type=positive_int, default=DEFAULT_SIZE, metavar="PX",
+    parser.add_argument("--size", type=command_line.positive_int, default=DEFAULT_SIZE, metavar="PX",
                         help="longer side of the renders and films in pixels, at most the painted maps' "
                              "(default {}); the painting keeps the footage's size".format(DEFAULT_SIZE))
     parser.add_argument("--azimuth", type=_azimuth, default=DEFAULT_AZIMUTH, metavar="DEG",
                         help="the light's azimuth in degrees (default {:g}: from the lower left)".format(DEFAULT_AZIMUTH))
-    parser.add_argument("--elevation", type=elevation_degrees, default=DEFAULT_ELEVATION, metavar="DEG",
+    parser.add_argument("--elevation", type=command_line.elevation_degrees, default=DEFAULT_ELEVATION, metavar="DEG",
                         help="the light's elevation above the canvas in degrees (default {:g})".format(DEFAULT_ELEVATION))
     parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
-    parser.add_argument("--method", choices=("MESH", "CYCLES_ADAPTIVE"), default="MESH",
-                        help="how the relief becomes geometry (default MESH)")
-    parser.add_argument("--thickness-mm", type=thickness_millimetres, default=2.0, metavar="MM",
-                        help="height in millimetres of paint of height 1 (default 2)")
+    command_line.add_canvas_arguments(parser)
     parser.add_argument("--denoise", action="store_true", help="Cycles' denoiser on (off by default)")
     parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
     return parser
@@ -134,78 +114,47 @@ def paint(core, package, args, out_dir, log):
     return painted
 
 
-def call_operator(operator, **kwargs):
-    """Run a Paint Relief operator; Failure with its one-sentence report when it does not finish."""
-    try:
-        result = operator(**kwargs)
-    except RuntimeError as error:  # an operator's ERROR report raises in background mode
-        text = " ".join(str(error).split())
-        raise Failure(text[len("Error: "):] if text.startswith("Error: ") else text) from None
-    if "FINISHED" not in result:
-        raise Failure("The operator {} did not finish.".format(operator.idname_py()))
-
-
 def stage_scene(package, args, painted_dir):
-    """An empty scene with the animated canvas, the key light and the camera; returns (canvas, film size)."""
-    import math
-
-    import bpy
-
-    scene = bpy.context.scene
-    for obj in list(scene.objects):  # the start-up file's cube, light and camera
-        bpy.data.objects.remove(obj)
-    settings = scene.paint_relief
-    settings.painting_dir = str(painted_dir)
-    settings.canvas_width_cm = CANVAS_WIDTH_CM
-    settings.thickness_mm = args.thickness_mm
-    settings.displacement_method = args.method
-    settings.light_azimuth = math.radians(args.azimuth)
-    settings.light_elevation = math.radians(args.elevation)
-    settings.light_strength = KEY_BRIGHTNESS
-    settings.fill_light = False
-    settings.camera_match_resolution = True
-    settings.camera_standard_view = True
-    ops = bpy.ops.paint_relief
-    call_operator(ops.build_canvas, frame_range=True)
-    call_operator(ops.add_lights)
-    call_operator(ops.add_camera)
+    """An empty scene with the animated canvas (the scene's frame range set to the sequence), the key light and
+    the camera; returns (canvas, film size)."""
+    scene = command_line.stage_canvas(painted_dir, args, args.azimuth, frame_range=True)
     canvas_obj = package.addon.scene.canvas.find_role(scene, "canvas")
-    film = package.addon.film.relit
-    size = package.addon.values.film_size(*film.canvas_map_size(canvas_obj), args.size)
+    relit = package.addon.film.relit
+    size = package.addon.values.film_size(*relit.canvas_map_size(canvas_obj), args.size)
     return canvas_obj, size
 
 
-def save_scene(film, scene, out_dir, args, size):
+def save_scene(relit, scene, out_dir, args, size):
     """Save OUTDIR/scene.blend set to render the film as it was rendered (Render Animation writes relit/NNNN.png)."""
     import bpy
 
-    previous = film.configure_film(scene, args.samples, args.denoise, size)
+    previous = relit.configure_film(scene, args.samples, args.denoise, size)
     previous.append((scene.render, "filepath", scene.render.filepath))
     scene.render.filepath = str(out_dir / "relit" / "####")
     try:
         bpy.ops.wm.save_as_mainfile(filepath=str(out_dir / "scene.blend"), check_existing=False)
     finally:
-        film.restore(previous)
+        relit.restore(previous)
 
 
 def main(argv, prog=None):
     """Run the film for ``argv`` (a program name first; Blender's own arguments end at "--"); return the exit code."""
     parser = build_parser(prog or "animate.py")
-    args = parser.parse_args(script_arguments(argv))
-    log = Log(args.quiet)
+    args = parser.parse_args(command_line.script_arguments(argv))
+    log = command_line.Log(args.quiet)
     started = time.perf_counter()
     try:
         if "#" not in args.frames and not os.path.exists(args.frames):
-            raise Failure("The frames {} do not exist.".format(args.frames))
+            raise command_line.Failure("The frames {} do not exist.".format(args.frames))
 
         log.step("extension", "Loading the Paint Relief extension")
         import bpy
 
-        package, where = load_extension()
+        package, where = command_line.load_extension()
         core = importlib.import_module(package.__name__ + ".core")
         writing = importlib.import_module(core.__name__ + ".files.writing")
         evaluation = importlib.import_module(core.__name__ + ".evaluation.film")
-        film = importlib.import_module(package.__name__ + ".addon.film.relit")
+        relit = importlib.import_module(package.__name__ + ".addon.film.relit")
         log.say("    from {}".format(where))
         out_dir = Path(writing.ensure_output_dir(args.output)).resolve()
 
@@ -214,9 +163,9 @@ def main(argv, prog=None):
 
         log.step("scene", "Building the animated canvas, the key light and the camera ({}, {:g} mm paint)".format(
             args.method, args.thickness_mm))
-        with quiet_stdout(True, log):
+        with command_line.quiet_stdout(True, log):
             canvas_obj, size = stage_scene(package, args, painted_dir)
-        frames = film.check_film(bpy.context.scene, canvas_obj, args.samples)
+        frames = relit.check_film(bpy.context.scene, canvas_obj, args.samples)
 
         log.step("film", "Rendering {} frames at {} x {} px with Cycles, {} samples, light at {:g} degrees, elevation "
                  "{:g} degrees".format(len(frames), size[0], size[1], args.samples, args.azimuth, args.elevation))
@@ -225,13 +174,13 @@ def main(argv, prog=None):
             if message.startswith("Rendered"):
                 log.say("    {:3.0f}% {}".format(100 * fraction, message))
 
-        with quiet_stdout(True, log):  # Blender's render statistics hidden, the frame lines shown
-            seconds = film.render_film(bpy.context, canvas_obj, str(out_dir / "relit"), args.samples, size,
+        with command_line.quiet_stdout(True, log):  # Blender's render statistics hidden, the frame lines shown
+            seconds = relit.render_film(bpy.context, canvas_obj, str(out_dir / "relit"), args.samples, size,
                                        args.denoise, progress=progress)
 
         log.step("blend", "Saving {}".format(out_dir / "scene.blend"))
-        with quiet_stdout(True, log):
-            save_scene(film, bpy.context.scene, out_dir, args, size)
+        with command_line.quiet_stdout(True, log):
+            save_scene(relit, bpy.context.scene, out_dir, args, size)
 
         log.step("measures", "Lighting every frame with the paper's model; warping errors against the footage")
         render = {"samples": args.samples, "denoise": args.denoise, "method": args.method,
@@ -241,25 +190,21 @@ def main(argv, prog=None):
                                          render=render)
 
         movie = None
-        if film.movie_available():
+        if relit.movie_available():
             log.step("movie", "Encoding {} with Blender's FFmpeg".format(out_dir / "animation.mp4"))
-            with quiet_stdout(True, log):
-                movie = film.encode_movie(str(out_dir / "side_by_side"), frames,
-                                          _png_size(out_dir / "side_by_side" / film.frame_file(frames[0])),
+            with command_line.quiet_stdout(True, log):
+                movie = relit.encode_movie(str(out_dir / "side_by_side"), frames,
+                                          _png_size(out_dir / "side_by_side" / relit.frame_file(frames[0])),
                                           str(out_dir / "animation.mp4"))
         log.end()
     except SystemExit:
         raise
     except Exception as error:  # every failure ends with one sentence
-        sys.stderr.write(sentence(error, parser.prog) + "\n")
+        sys.stderr.write(command_line.sentence(error, parser.prog) + "\n")
         return 1
 
     figures = result["warping_error"]
-    log.say("")
-    log.say("Seconds per step:")
-    for name, seconds_taken in log.times:
-        log.say("    {:<11} {:7.1f}".format(name, seconds_taken))
-    log.say("    {:<11} {:7.1f}".format("total", time.perf_counter() - started))
+    log.seconds(started)
     log.say("Cycles took {:.2f} s per frame at {} x {} px.".format(render["seconds_per_frame"], *size))
     log.say("Warping error: footage {:.5f}, relit {:.5f} ({:.2f}x), paper {:.5f} ({:.2f}x), unlit painting {:.5f} "
             "({:.2f}x).".format(figures["footage"]["mean"], figures["relit"]["mean"], figures["relit"]["ratio"],

@@ -31,8 +31,11 @@ class FilmError(Exception):
 
 
 def frame_file(number):
-    """``0016.png``: a film frame's file name, the frame number zero-padded to 4 digits."""
-    return "{:04d}.png".format(int(number))
+    """``0016.png``: a film frame's file name (``core.evaluation.film_files``, the rule the film's figures read
+    it by)."""
+    from ...core.evaluation import film_files
+
+    return film_files.frame_file(number)
 
 
 def film_attributes(scene, samples, denoise):

@@ -2,25 +2,22 @@
 """The ``paint_relief.paint`` operator: paint the chosen photograph into maps.
 
 The work is one call of ``core.paint_file``. Headless (``bpy.app.background``)
-and from scripts, ``execute()`` runs it synchronously. Interactively,
-``invoke()`` runs the same call in a worker thread and a modal timer shows its
-progress in the window manager's progress bar and the status bar; Esc asks
-the painter to stop (its cancel callback reads a ``threading.Event``). The
-painter is imported only when the operator runs.
+and from scripts, ``execute()`` runs it synchronously. Interactively, the
+same call runs in a worker thread and a modal timer shows its progress in
+the window manager's progress bar and the status bar; Esc asks the painter
+to stop (``addon/modal_job.py``). The painter is imported only when the
+operator runs.
 """
 
 import os
-import threading
 
 import bpy
 from bpy.types import Operator
 
 from .. import dependencies, values
+from ..modal_job import ModalJob, Outcome, Worker
 from ..settings import properties
 from . import jobs
-
-# Seconds between the modal operator's progress updates.
-TIMER_INTERVAL = 0.1
 
 
 def params_from_settings(settings):
@@ -110,7 +107,7 @@ def _finish(operator, context, report):
     operator.report({"INFO"}, "Painted {} strokes into {}".format(report.get("strokes", "the"), report["output_dir"]))
 
 
-class PAINT_RELIEF_OT_paint(Operator):
+class PAINT_RELIEF_OT_paint(ModalJob, Operator):
     """Paint the photograph stroke by stroke into colour, height and opacity maps"""
 
     bl_idname = "paint_relief.paint"
@@ -125,101 +122,62 @@ class PAINT_RELIEF_OT_paint(Operator):
         return bool(settings.image if settings.source == "BLEND_IMAGE" else settings.image_path)
 
     def execute(self, context):
-        from ... import core
+        started = self._checked_work(context)
+        if started is None:
+            return {"CANCELLED"}
+        outcome = Outcome().run(*started)
+        jobs.end(context.scene)
+        return self.report_outcome(outcome, lambda report: _finish(self, context, report), False)
 
-        prepared = _prepare(self, context)
-        if prepared is None:
+    def begin_modal(self, context):
+        """Check, then paint in a worker thread while the timer shows its progress."""
+        started = self._checked_work(context)
+        if started is None:
             return {"CANCELLED"}
-        image_path, out_dir, params, mask = prepared
-        jobs.begin(context.scene)
-        try:
-            report = core.paint_file(image_path, out_dir, params, mask_path=mask)
-        except core.PaintReliefError as error:
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
-        except Exception as error:  # an unexpected failure still reaches the user as one line
-            self.report({"ERROR"}, "Painting {} failed: {}".format(image_path, error))
-            return {"CANCELLED"}
-        finally:
-            jobs.end(context.scene)
-        _finish(self, context, report)
-        return {"FINISHED"}
-
-    def invoke(self, context, event):
-        if bpy.app.background:
-            return self.execute(context)
-        prepared = _prepare(self, context)
-        if prepared is None:
-            return {"CANCELLED"}
-        image_path, out_dir, params, mask = prepared
-        jobs.begin(context.scene)
         self._scene = context.scene
-
-        self._cancel = threading.Event()
-        self._state = {"fraction": 0.0, "message": "Starting", "report": None, "error": None}
-        self._thread = threading.Thread(
-            target=self._work, args=(image_path, out_dir, params, mask), name="paint_relief", daemon=True)
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(TIMER_INTERVAL, window=context.window)
-        wm.progress_begin(0, 100)
-        wm.modal_handler_add(self)
-        self._thread.start()
+        self.start_timer(context)
+        self._worker = Worker(*started)
         return {"RUNNING_MODAL"}
 
-    def _work(self, image_path, out_dir, params, mask):
-        """Worker thread: the painter only; never touches bpy data."""
+    def _checked_work(self, context):
+        """Check the inputs and record that the scene paints; return (work, failure) or None after reporting
+        the problem."""
         from ... import core
 
-        state = self._state
+        prepared = _prepare(self, context)
+        if prepared is None:
+            return None
+        image_path, out_dir, params, mask = prepared
+        jobs.begin(context.scene)
 
-        def progress(fraction, message):
-            state["fraction"], state["message"] = fraction, message
+        def work(progress, cancel):
+            return core.paint_file(image_path, out_dir, params, progress=progress, cancel=cancel, mask_path=mask)
 
-        try:
-            state["report"] = core.paint_file(image_path, out_dir, params,
-                                              progress=progress, cancel=self._cancel.is_set,
-                                              mask_path=mask)
-        except core.PaintReliefError as error:
-            state["error"] = str(error)
-        except Exception as error:
-            state["error"] = "Painting {} failed: {}".format(image_path, error)
+        return work, lambda error: "Painting {} failed: {}".format(image_path, error)
 
-    def modal(self, context, event):
-        if event.type == "ESC":
-            self._cancel.set()
+    def escape(self, context):
+        self._worker.cancel.set()
+        return {"RUNNING_MODAL"}
+
+    def step(self, context):
+        worker = self._worker
+        if worker.is_alive():
+            if worker.cancel.is_set():
+                self.show(context, worker.fraction, "cancelling...", percent=False)
+            else:
+                self.show(context, worker.fraction, "{} (Esc to cancel)".format(worker.message))
             return {"RUNNING_MODAL"}
-        if event.type != "TIMER":
-            return {"PASS_THROUGH"}
-
-        state = self._state
-        if self._thread.is_alive():
-            context.window_manager.progress_update(int(100 * state["fraction"]))
-            text = "Paint Relief: {:.0f}% {} (Esc to cancel)".format(100 * state["fraction"], state["message"])
-            if self._cancel.is_set():
-                text = "Paint Relief: cancelling..."
-            context.workspace.status_text_set(text)
-            return {"RUNNING_MODAL"}
-
         self._end(context)
-        if state["error"] is not None:
-            level = {"WARNING"} if self._cancel.is_set() else {"ERROR"}
-            self.report(level, state["error"])
-            return {"CANCELLED"}
-        _finish(self, context, state["report"])
-        return {"FINISHED"}
+        return self.report_outcome(worker, lambda report: _finish(self, context, report), worker.cancel.is_set())
 
     def cancel(self, context):
         """Blender ends the operator (e.g. the file closes): stop the worker and clean up."""
-        self._cancel.set()
-        self._thread.join()
+        self._worker.stop()
         self._end(context)
 
     def _end(self, context):
         jobs.end(self._scene)
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        context.workspace.status_text_set(None)
+        self.end_modal(context)
 
 
 classes = (PAINT_RELIEF_OT_paint,)

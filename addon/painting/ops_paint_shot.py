@@ -2,7 +2,7 @@
 """The ``paint_relief.paint_animation`` operator: paint an image sequence, or the scene's animation, into
 one folder of painted frames whose strokes live across frames.
 
-The work is an ``ShotJob``: for the scene's animation, first its frames
+The work is a ``ShotJob``: for the scene's animation, first its frames
 rendered one by one (``scene_render.RenderedFrames``) into ``scene_render/``
 inside the output folder; then one call of ``core.paint_sequence_files``,
 which commits every painted frame whole and goes on after the last complete
@@ -10,7 +10,7 @@ frame when run again into the same folder. The rendered frames stay until
 the last frame is painted, so a stopped run goes on with the same footage.
 
 Headless (``bpy.app.background``) and from scripts, ``execute()`` does the
-whole job. Interactively, ``invoke()`` renders one frame per timer event
+whole job. Interactively (``addon/modal_job.py``), one frame is rendered per timer event
 (each render blocks Blender for that frame; between frames Blender redraws
 and reads Esc), then paints in a worker thread while a timer shows the
 progress (frame k of n and the stage within the frame) in the progress bar
@@ -26,11 +26,10 @@ import bpy
 from bpy.types import Operator
 
 from .. import dependencies, values
+from ..modal_job import ModalJob, Outcome, Worker
 from ..settings import properties
 from . import jobs, scene_render, shot_source
 from .ops_paint import params_from_settings
-
-TIMER_INTERVAL = 0.1
 
 
 class ShotJob:
@@ -140,18 +139,31 @@ def _finish(operator, context, job, report):
         len(report.get("frames", ())), report.get("motion", "motion"), report["output_dir"]))
 
 
+def _render_and_paint(job):
+    """The whole job at once: the scene's frames rendered (when it paints the scene), then painted; returns the
+    painter's report."""
+    if job.frames is not None:
+        try:
+            while job.frames.render_next():
+                pass
+        finally:
+            job.frames.close()
+    return job.paint()
+
+
 def _failure(error, job):
     """The one line for an unexpected failure."""
     return "Paint Animation into {} failed: {}".format(job.output_dir, error)
 
 
-class PAINT_RELIEF_OT_paint_animation(Operator):
+class PAINT_RELIEF_OT_paint_animation(ModalJob, Operator):
     """Paint an image sequence, or render the scene's animation and paint it, with strokes that follow the \
 motion from frame to frame"""
 
     bl_idname = "paint_relief.paint_animation"
     bl_label = "Paint Animation"
     bl_options = {"REGISTER"}
+    status_title = "Paint Animation"
 
     @classmethod
     def poll(cls, context):
@@ -173,41 +185,17 @@ motion from frame to frame"""
             return None
 
     def execute(self, context):
-        from ... import core
-
         job = self._prepared(context)
         if job is None:
             return {"CANCELLED"}
         jobs.begin(context.scene)
         _start(context, job)
-        try:
-            if job.frames is not None:
-                try:
-                    while job.frames.render_next():
-                        pass
-                finally:
-                    job.frames.close()
-            report = job.paint()
-        except core.Cancelled as stopped:
-            self.report({"WARNING"}, str(stopped))
-            return {"CANCELLED"}
-        except (core.PaintReliefError, RuntimeError, ValueError) as error:
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
-        except Exception as error:  # an unexpected failure still reaches the user as one line
-            self.report({"ERROR"}, _failure(error, job))
-            return {"CANCELLED"}
-        finally:
-            jobs.end(context.scene)
-        _finish(self, context, job, report)
-        return {"FINISHED"}
+        outcome = Outcome().run(lambda progress, cancel: _render_and_paint(job), lambda error: _failure(error, job),
+                                sentences=(RuntimeError, ValueError))
+        jobs.end(context.scene)
+        return self.report_outcome(outcome, lambda report: _finish(self, context, job, report), outcome.stopped)
 
-    def invoke(self, context, event):
-        if bpy.app.background:
-            return self.execute(context)
-        return self._begin_modal(context)
-
-    def _begin_modal(self, context):
+    def begin_modal(self, context):
         """Check, then start the timer that renders frame by frame and watches the painting."""
         job = self._prepared(context)
         if job is None:
@@ -216,16 +204,12 @@ motion from frame to frame"""
         _start(context, job)
         self._job = job
         self._cancel = threading.Event()
-        self._state = {"fraction": 0.0, "message": "Starting", "report": None, "error": None, "stopped": None}
-        self._thread = None
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(TIMER_INTERVAL, window=context.window)
-        wm.progress_begin(0, 100)
-        wm.modal_handler_add(self)
+        self._worker = None
+        self.start_timer(context)
         if job.frames is None or job.frames.next_number() is None:
             self._start_painting()
         else:
-            self._show(context, job.fraction(), self._render_text(job.frames))
+            self.show(context, job.fraction(), self._render_text(job.frames))
         return {"RUNNING_MODAL"}
 
     @staticmethod
@@ -235,36 +219,23 @@ motion from frame to frame"""
             number, frames.numbers.index(number) + 1, len(frames.numbers))
 
     def _start_painting(self):
-        if self._job.frames is not None:
-            self._job.frames.close()
-        self._thread = threading.Thread(target=self._work, name="paint_relief_animation", daemon=True)
-        self._thread.start()
+        job = self._job
+        if job.frames is not None:
+            job.frames.close()
 
-    def _work(self):
-        """Worker thread: the painter only; never touches bpy data."""
-        from ... import core
+        def work(progress, cancel):
+            return job.paint(progress=lambda fraction, message: progress(job.fraction(fraction), message),
+                             cancel=cancel)
 
-        state, job = self._state, self._job
+        self._worker = Worker(work, lambda error: _failure(error, job), name="paint_relief_animation",
+                              cancel=self._cancel)
 
-        def progress(fraction, message):
-            state["fraction"], state["message"] = job.fraction(fraction), message
+    def escape(self, context):
+        self._cancel.set()
+        return {"RUNNING_MODAL"}
 
-        try:
-            state["report"] = job.paint(progress=progress, cancel=self._cancel.is_set)
-        except core.Cancelled as stopped:
-            state["stopped"] = str(stopped)
-        except core.PaintReliefError as error:
-            state["error"] = str(error)
-        except Exception as error:
-            state["error"] = _failure(error, job)
-
-    def modal(self, context, event):
-        if event.type == "ESC" and event.value == "PRESS":
-            self._cancel.set()
-            return {"RUNNING_MODAL"}
-        if event.type != "TIMER":
-            return {"PASS_THROUGH"}
-        if self._thread is None:
+    def step(self, context):
+        if self._worker is None:
             return self._render_step(context)
         return self._paint_step(context)
 
@@ -286,49 +257,34 @@ motion from frame to frame"""
             return {"CANCELLED"}
         if frames.next_number() is None:
             self._start_painting()
-            self._show(context, self._job.fraction(), "painting")
+            self.show(context, self._job.fraction(), "painting")
         else:
-            self._show(context, self._job.fraction(), self._render_text(frames))
+            self.show(context, self._job.fraction(), self._render_text(frames))
         return {"RUNNING_MODAL"}
 
     def _paint_step(self, context):
-        state = self._state
-        if self._thread.is_alive():
-            text = "{} (Esc to cancel)".format(state["message"])
-            if self._cancel.is_set():
+        worker = self._worker
+        if worker.is_alive():
+            text = "{} (Esc to cancel)".format(worker.message)
+            if worker.cancel.is_set():
                 text = "cancelling after the painter's current stage..."
-            self._show(context, state["fraction"], text)
+            self.show(context, worker.fraction, text)
             return {"RUNNING_MODAL"}
         self._end(context)
-        if state["stopped"] is not None:
-            self.report({"WARNING"}, state["stopped"])
-            return {"CANCELLED"}
-        if state["error"] is not None:
-            self.report({"ERROR"}, state["error"])
-            return {"CANCELLED"}
-        _finish(self, context, self._job, state["report"])
-        return {"FINISHED"}
-
-    @staticmethod
-    def _show(context, fraction, text):
-        context.window_manager.progress_update(int(100 * fraction))
-        context.workspace.status_text_set("Paint Animation: {:.0f}% {}".format(100 * fraction, text))
+        return self.report_outcome(worker, lambda report: _finish(self, context, self._job, report), worker.stopped)
 
     def cancel(self, context):
         """Blender ends the operator (another file is opened, or Blender quits): stop the worker, clean up."""
         self._cancel.set()
-        if self._thread is not None:
-            self._thread.join()
+        if self._worker is not None:
+            self._worker.stop()
         self._end(context, closing=True)
 
     def _end(self, context, closing=False):
         if self._job.frames is not None:
             self._job.frames.close(restore_frame=not closing)
         jobs.end(self._job_key)
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        context.workspace.status_text_set(None)
+        self.end_modal(context)
 
 
 classes = (PAINT_RELIEF_OT_paint_animation,)

@@ -13,8 +13,6 @@ import os
 
 import bpy
 
-from .. import values
-
 # Where an image's frame range is set, first found first: what the Image Editor shows, then texture nodes,
 # textures, image empties and camera background images.
 _NODE_TREE_OWNERS = ("materials", "worlds", "lights", "node_groups")
@@ -70,7 +68,7 @@ def image_sequence_files(image):
 
     Blender plays file number ``frame_offset + 1`` to ``frame_offset +
     frame_duration`` of the image's user (``image_user``), named as the
-    image's file with its last run of digits replaced (``values.numbered_file``).
+    image's file with its last run of digits replaced (``core.files.shot_files.numbered_file``).
     The sequence starts at that first file, or at the image's own file when
     no user shows the image or that file does not exist, and runs on while
     the next numbered file exists, for at most the user's duration.
@@ -82,19 +80,21 @@ def image_sequence_files(image):
     path = image_path(image)
     if not image.filepath:
         raise ValueError("Image sequence {} has no file path.".format(image.name))
-    pattern, number = values.numbered_file(path)
+    from ...core.files import shot_files
+
+    pattern, number = shot_files.numbered_file(path)
     user = image_user(image)
     limit = None
     if user is not None:
         limit = max(1, user.frame_duration)
-        if os.path.isfile(values.sequence_file(pattern, user.frame_offset + 1)):
+        if os.path.isfile(shot_files.pattern_file(pattern, user.frame_offset + 1)):
             number = user.frame_offset + 1
-    first = values.sequence_file(pattern, number)
+    first = shot_files.pattern_file(pattern, number)
     if not os.path.isfile(first):
         raise ValueError("Image sequence {} starts with {}, which does not exist.".format(image.name, first))
     files = []
     while limit is None or len(files) < limit:
-        candidate = values.sequence_file(pattern, number + len(files))
+        candidate = shot_files.pattern_file(pattern, number + len(files))
         if not os.path.isfile(candidate):
             break
         files.append(candidate)

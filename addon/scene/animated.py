@@ -55,6 +55,9 @@ def painted_frames(folder, map_names):
     painting). The frames of a sequence are committed whole, each frame's
     files together, so the ones between are complete too.
     """
+    from ... import core
+    from ...core.files import shot_files
+
     frames = values.sequence_frames(folder)
     if frames is None:
         raise CanvasError("The folder {} holds no painted sequence (no sequence report.json).".format(folder))
@@ -62,16 +65,14 @@ def painted_frames(folder, map_names):
         raise CanvasError("The painted sequence in {} has no painted frame yet; paint it first.".format(folder))
     for number in frames:
         for name in map_names:
-            path = os.path.join(folder, values.sequence_map_name(name, number))
+            path = os.path.join(folder, shot_files.numbered_name(name, number))
             if not os.path.isfile(path):
                 hint = (" (paint the sequence with normal maps, or choose another displacement method)"
                         if name == values.NORMAL_MAP else "")
                 raise CanvasError("Painted map {} does not exist{}.".format(path, hint))
-    from ... import core
-
     try:
         for number in sorted({frames[0], frames[-1]}):
-            core.check_maps(folder, [values.sequence_map_name(name, number) for name in map_names])
+            core.check_maps(folder, [shot_files.numbered_name(name, number) for name in map_names])
     except core.PaintReliefError as error:
         raise CanvasError(str(error)) from None
     return frames
@@ -85,7 +86,9 @@ def load_sequence_maps(folder, frames, map_names):
     sequences. Images of an earlier build are reused. Raises CanvasError as
     ``maps.load_images`` (images of an earlier build are sequences again then).
     """
-    paths = {name: os.path.join(folder, values.sequence_map_name(name, frames[0])) for name in map_names}
+    from ...core.files import shot_files
+
+    paths = {name: os.path.join(folder, shot_files.numbered_name(name, frames[0])) for name in map_names}
     wanted = {os.path.normpath(path) for path in paths.values()}
     earlier = [image for image in bpy.data.images if image.source == "SEQUENCE"
                and os.path.normpath(bpy.path.abspath(image.filepath)) in wanted]

@@ -18,6 +18,16 @@ from bpy.types import Operator
 from . import animated, camera, canvas, lighting
 
 
+class _CanvasOperator:
+    """What the operators that change the scene's canvas share: undoable, available when the scene has one."""
+
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return canvas.find_role(context.scene, "canvas") is not None
+
+
 class PAINT_RELIEF_OT_build_canvas(Operator):
     """Build (or update) a canvas of the chosen physical size from the painted maps, with paint relief; an animated
     canvas, whose maps follow the scene's frame, from a painted sequence"""
@@ -80,16 +90,11 @@ class PAINT_RELIEF_OT_add_lights(Operator):
         return {"FINISHED"}
 
 
-class PAINT_RELIEF_OT_add_camera(Operator):
+class PAINT_RELIEF_OT_add_camera(_CanvasOperator, Operator):
     """Add (or update) an orthographic camera that frames the canvas exactly, render size = map size"""
 
     bl_idname = "paint_relief.add_camera"
     bl_label = "Add Camera"
-    bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        return canvas.find_role(context.scene, "canvas") is not None
 
     def execute(self, context):
         target = canvas.find_role(context.scene, "canvas")
@@ -102,16 +107,11 @@ class PAINT_RELIEF_OT_add_camera(Operator):
         return {"FINISHED"}
 
 
-class PAINT_RELIEF_OT_reload_maps(Operator):
+class PAINT_RELIEF_OT_reload_maps(_CanvasOperator, Operator):
     """Read the active canvas's painted maps from disk again (after repainting its folder)"""
 
     bl_idname = "paint_relief.reload_maps"
     bl_label = "Reload Maps"
-    bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        return canvas.find_role(context.scene, "canvas") is not None
 
     def execute(self, context):
         target = canvas.find_role(context.scene, "canvas")

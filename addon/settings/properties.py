@@ -21,6 +21,12 @@ _PATH_OPTIONS = (
 )
 
 
+def _path(name, description, subtype="DIR_PATH"):
+    """A folder (or, with ``subtype="FILE_PATH"``, a file) setting; "//" paths, relative to the .blend file, are
+    accepted where Blender marks them."""
+    return StringProperty(name=name, description=description, subtype=subtype, options=_PATH_OPTIONS)
+
+
 def paintings_parent(context):
     """The absolute folder that holds one folder per painting when ``output_dir`` is left empty.
 
@@ -138,22 +144,19 @@ class PaintReliefSettings(PropertyGroup):
         description="Image of this .blend file to paint; it must have a file on disk",
         type=bpy.types.Image,
     )
-    image_path: StringProperty(
-        name="Photograph",
-        description="Image file to paint (PNG, JPEG, TIFF, EXR and other formats OpenImageIO reads)",
+    image_path: _path(
+        "Photograph",
+        "Image file to paint (PNG, JPEG, TIFF, EXR and other formats OpenImageIO reads)",
         subtype="FILE_PATH",
-        options=_PATH_OPTIONS,
     )
-    output_dir: StringProperty(
-        name="Output Folder",
-        description=(
+    output_dir: _path(
+        "Output Folder",
+        (
             "Folder for the painted colour, height and opacity maps and the stroke list (a new painting replaces "
             "what is there). Leave empty to give every painting a new folder named after its image, in a "
             "'paint_relief' folder beside the saved .blend file, or in the add-on preferences' default output "
             "folder while the file is not saved"
         ),
-        subtype="DIR_PATH",
-        options=_PATH_OPTIONS,
     )
 
     # --- painter parameters (defaults equal core.Params's) ---
@@ -178,11 +181,10 @@ class PaintReliefSettings(PropertyGroup):
         ),
         default="IMPRESSIONIST",
     )
-    mask_path: StringProperty(
-        name="Importance Mask",
-        description="Optional grayscale image of the photograph's size: white areas get smaller, more detailed strokes",
+    mask_path: _path(
+        "Importance Mask",
+        "Optional grayscale image of the photograph's size: white areas get smaller, more detailed strokes",
         subtype="FILE_PATH",
-        options=_PATH_OPTIONS,
     )
     detail: FloatProperty(
         name="Detail",
@@ -220,11 +222,10 @@ class PaintReliefSettings(PropertyGroup):
         ),
         default="FLAT",
     )
-    brush_path: StringProperty(
-        name="Brush Image",
-        description="Grayscale PNG brush map used when Brush is Custom (white = bristle, black = no paint)",
+    brush_path: _path(
+        "Brush Image",
+        "Grayscale PNG brush map used when Brush is Custom (white = bristle, black = no paint)",
         subtype="FILE_PATH",
-        options=_PATH_OPTIONS,
     )
     height_mode: EnumProperty(
         name="Height Mode",
@@ -237,14 +238,12 @@ class PaintReliefSettings(PropertyGroup):
     )
 
     # --- the canvas in the scene ---
-    painting_dir: StringProperty(
-        name="Painting",
-        description=(
+    painting_dir: _path(
+        "Painting",
+        (
             "Folder of painted maps (color.exr, height.exr, opacity.exr) the canvas is built from. "
             "Paint fills it in; choose any earlier painted folder to use that one"
         ),
-        subtype="DIR_PATH",
-        options=_PATH_OPTIONS,
     )
     canvas_width_cm: FloatProperty(
         name="Canvas Width",
@@ -331,14 +330,12 @@ class PaintReliefSettings(PropertyGroup):
         description="Cycles samples per pixel of each comparison render",
         default=16, min=1, soft_max=256,
     )
-    compare_output_dir: StringProperty(
-        name="Comparison Folder",
-        description=(
+    compare_output_dir: _path(
+        "Comparison Folder",
+        (
             "Folder for the comparison renders, figures and pictures. Leave empty to use a 'comparison' folder "
             "inside the painting output folder"
         ),
-        subtype="DIR_PATH",
-        options=_PATH_OPTIONS,
     )
 
 
@@ -362,42 +359,35 @@ class PaintReliefSettings(PropertyGroup):
         type=bpy.types.Image,
         poll=lambda self, image: image.source == "SEQUENCE",
     )
-    animation_folder: StringProperty(
-        name="Frames Folder",
-        description="Folder of the frames to paint, in the order of the frame numbers in their names",
-        subtype="DIR_PATH",
-        options=_PATH_OPTIONS,
+    animation_folder: _path(
+        "Frames Folder",
+        "Folder of the frames to paint, in the order of the frame numbers in their names",
     )
-    animation_pattern: StringProperty(
-        name="Frame Pattern",
-        description="Path of the frames with '#' for the zero-padded frame number, such as //render/frame_####.exr",
+    animation_pattern: _path(
+        "Frame Pattern",
+        "Path of the frames with '#' for the zero-padded frame number, such as //render/frame_####.exr",
         subtype="FILE_PATH",
-        options=_PATH_OPTIONS,
     )
     animation_fade_frames: IntProperty(
         name="Fade",
         description="Frames a stroke takes to fade in when it is born and to fade out when it dies",
         default=3, min=1, max=100,
     )
-    animation_output_dir: StringProperty(
-        name="Output Folder",
-        description=(
+    animation_output_dir: _path(
+        "Output Folder",
+        (
             "Folder for the painted frames (a run into a folder holding an unfinished painted animation goes on "
             "with it). Leave empty to give every animation a new folder named after its source, where still "
             "paintings go"
         ),
-        subtype="DIR_PATH",
-        options=_PATH_OPTIONS,
     )
-    animation_dir: StringProperty(
-        name="Animation",
-        description=(
+    animation_dir: _path(
+        "Animation",
+        (
             "Folder of the frames the last Paint Animation of this scene painted. While that run is stopped "
             "before its last frame, Paint Animation with the same source and settings goes on with it: clear "
             "this to start a new folder instead"
         ),
-        subtype="DIR_PATH",
-        options=_PATH_OPTIONS,
     )
     animation_key: StringProperty(
         name="Animation Run",

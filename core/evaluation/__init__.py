@@ -4,11 +4,27 @@
 ablations (``experiments``). ``run_comparison``: Cycles renders of the
 relief against the 2-D lighting (``comparison``). ``run_film``: a painted
 shot relit by Cycles frame by frame and lit by the paper's model, both
-films' warping errors against the footage's (``film``).
+films' warping errors against the footage's (``film``; its file names in
+``film_files``).
+
+``import core.evaluation`` is light: the public functions below load their
+module (and NumPy, OpenImageIO) on first use, so ``core.evaluation.film_files``
+serves the extension before the painter's libraries are loaded.
 """
 
-from .comparison import run_comparison
-from .experiments import run_experiments
-from .film import run_film
+import importlib
 
-__all__ = ["run_comparison", "run_experiments", "run_film"]
+# {public name: the module of this package that defines it}
+_HOMES = {"run_comparison": "comparison", "run_experiments": "experiments", "run_film": "film"}
+
+__all__ = list(_HOMES)
+
+
+def __getattr__(name):
+    if name in _HOMES:
+        return getattr(importlib.import_module("." + _HOMES[name], __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_HOMES))

@@ -7,9 +7,9 @@ Eq. 6-7 lights each frame in 2-D (``paper``, written here as
 ``paper/NNNN.png``). Both films, the footage and the unlit painting are
 brought to the relit film's size (area averaging, in sRGB) and measured with
 the warping error (``core.motion.warping_error``, Lai et al. 2018) under the
-painter's own motion: Blender's Vector pass of the footage when it has one,
-else optical flow as the painter computes it (``SEQUENCE_MEGAPIXELS``),
-scaled to the film's size; only pixels visible in both frames count.
+painter's own motion (``core.motion.source.two_way_motion``): Blender's
+Vector pass of the footage when it has one, else optical flow as the painter
+computes it, scaled to the film's size; only pixels visible in both frames count.
 
 Frames are float32 (h, w, 3) sRGB in [0, 1]; motions float32 (h, w, 2) in
 film pixels, x right, y down. ``run_film`` writes paper/, side_by_side/
@@ -19,7 +19,6 @@ and animation.md.
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence
@@ -30,24 +29,18 @@ from ..colour import linear_to_srgb
 from ..errors import InputError
 from ..figures.gif import write_gif
 from ..figures.sheet import contact_sheet
-from ..files import reading, writing
+from ..files import reading, shot_files, writing
 from ..files.frames import read_vector_pass
 from ..lighting import paper_lighting
-from ..motion import mean_over_pairs, motion_pair, optical_flow, visible_in_both, warping_error
-from ..motion.optical_flow import SEQUENCE_MEGAPIXELS
+from ..motion import mean_over_pairs, visible_in_both, warping_error
+from ..motion.source import VECTOR_PASS_MOTION, two_way_motion
 from ..progress import ProgressFn, Stage
+from .film_files import frame_file
 
 FILMS = ("footage", "relit", "paper", "painting")
 """The films measured: the footage, the Cycles renders, the paper's 2-D lighting, the unlit painting."""
 GIF_SECONDS_PER_FRAME = 0.1
 """The side-by-side GIF plays at 10 frames a second."""
-VECTOR_PASS_MOTION = "vector pass"
-"""The painter's name (report.json "motion") for motion from Blender's Vector pass."""
-
-
-def frame_file(number: int) -> str:
-    """"0016.png": a film frame's file name, the frame number zero-padded to 4 digits."""
-    return f"{int(number):04d}.png"
 
 
 def area_weights(size_in: int, size_out: int) -> np.ndarray:
@@ -82,12 +75,11 @@ def resize_motion(motion: np.ndarray, width: int, height: int) -> np.ndarray:
 
 def read_sequence_report(painted_dir: Path) -> dict:
     """The sequence report of a painted folder; InputError (one sentence) when it holds no painted sequence."""
-    path = Path(painted_dir) / "report.json"
     try:
-        report = json.loads(path.read_text(encoding="utf-8"))
+        report = shot_files.read_report(painted_dir)
     except (OSError, ValueError):
         report = None
-    if not isinstance(report, dict) or "sequence" not in report or not report.get("frames"):
+    if report is None or not shot_files.is_shot_report(report) or not report.get("frames"):
         raise InputError(f"The folder {painted_dir} holds no painted sequence (a report.json listing painted "
                          f"frames); paint the footage with `python -m core sequence` first.")
     return report
@@ -105,10 +97,11 @@ def footage_paths(report: dict, painted_dir: Path) -> List[Path]:
 
 def painted_maps(painted_dir: Path, number: int) -> Dict[str, np.ndarray]:
     """Frame ``number``'s maps: colour (H, W, 3) sRGB [0, 1], height (H, W) and orientation (H, W) radians."""
-    folder = Path(painted_dir)
-    colour = reading.read_exr(folder / f"color_{number:04d}.exr")[0][..., :3]
-    return {"srgb": linear_to_srgb(colour), "height": reading.read_exr(folder / f"height_{number:04d}.exr")[0][..., 0],
-            "orientation": reading.read_exr(folder / f"orientation_{number:04d}.exr")[0][..., 0]}
+    def read(name):
+        return reading.read_exr(Path(painted_dir) / shot_files.numbered_name(name, number))[0]
+
+    return {"srgb": linear_to_srgb(read("color.exr")[..., :3]), "height": read("height.exr")[..., 0],
+            "orientation": read("orientation.exr")[..., 0]}
 
 
 def read_relit(relit_dir: Path, number: int, size: Optional[tuple] = None) -> np.ndarray:
@@ -146,12 +139,7 @@ class FootageMotion:
 
     def pair(self, index: int) -> tuple:
         """(forward, backward, visible) between frames ``index`` and ``index`` + 1 at the film's size."""
-        first, second = self._frame(index), self._frame(index + 1)
-        if self.kind == VECTOR_PASS_MOTION:
-            forward, backward = motion_pair(first, second)
-        else:
-            forward = optical_flow(first, second, SEQUENCE_MEGAPIXELS)
-            backward = optical_flow(second, first, SEQUENCE_MEGAPIXELS)
+        forward, backward = two_way_motion(self._frame(index), self._frame(index + 1), self.kind)
         width, height = self.size
         forward, backward = resize_motion(forward, width, height), resize_motion(backward, width, height)
         return forward, backward, visible_in_both(forward, backward)

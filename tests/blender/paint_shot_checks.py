@@ -570,16 +570,16 @@ class _Workspace:
 
 
 class ModalDriver:
-    """Paint Animation's interactive path without a window: the operator's own ``_begin_modal`` and
+    """Paint Animation's interactive path without a window: the operator's own ``begin_modal`` and
     ``modal`` methods, called with the events a window sends (a timer event every few milliseconds, Esc when
     ``stop_when()`` first turns True) and a window manager and workspace that record the progress bar and
     the status text."""
 
     def __init__(self, bpy, ops_paint_shot):
-        names = [name for name in vars(ops_paint_shot.PAINT_RELIEF_OT_paint_animation)
-                 if not name.startswith(("__", "bl_"))]
-        self.operator = type("Operator", (), {name: vars(ops_paint_shot.PAINT_RELIEF_OT_paint_animation)[name]
-                                              for name in names})()
+        operator = ops_paint_shot.PAINT_RELIEF_OT_paint_animation
+        own = {name: value for name, value in vars(operator).items() if not name.startswith(("__", "bl_"))}
+        self.operator = type("Operator", tuple(base for base in operator.__bases__ if base is not bpy.types.Operator),
+                             own)()
         self.reports, self.texts, self.progress = [], [], []
         self.operator.report = lambda level, text: self.reports.append([sorted(level)[0], text])
         self.context = type("Context", (), {})()
@@ -600,7 +600,7 @@ class ModalDriver:
 
     def run(self, stop_when=lambda: False, seconds=300):
         timer, escape = type("Event", (), {"type": "TIMER", "value": "NOTHING"}), None
-        result = self.operator._begin_modal(self.context)
+        result = self.operator.begin_modal(self.context)
         stopped = False
         deadline = time.monotonic() + seconds
         while result == {"RUNNING_MODAL"} and time.monotonic() < deadline:

@@ -27,3 +27,18 @@ def run_script(script, *args, user_dir, cwd, timeout=900):
     lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
     results = json.loads(lines[-1][len("RESULTS "):]) if lines else {}
     return run, results
+
+
+def script_results(script, package_zip, work):
+    """Run tests/shipped/<script> on the zip with its work and user folders in ``work``; return its RESULTS dict
+    (fails when it printed none)."""
+    run, results = run_script(script, package_zip, work, user_dir=work / "blender_user", cwd=work)
+    assert results, "{} printed no results:\n{}\n{}".format(script, run.stdout[-3000:], run.stderr[-3000:])
+    return results
+
+
+def step(results, name):
+    """The findings of the step ``name``; fails with its traceback when it raised."""
+    found = results[name]
+    assert "exception" not in found, found.get("exception")
+    return found

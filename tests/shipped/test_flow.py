@@ -6,21 +6,13 @@ the painter uses comes from Blender or from the zip's wheels.
 """
 
 import pytest
-from conftest import run_script
+from conftest import script_results
+from conftest import step as _step
 
 
 @pytest.fixture(scope="module")
 def flow(package_zip, tmp_path_factory):
-    work = tmp_path_factory.mktemp("flow")
-    run, results = run_script("flow.py", package_zip, work, user_dir=work / "blender_user", cwd=work)
-    assert results, "flow.py printed no results:\n{}\n{}".format(run.stdout[-3000:], run.stderr[-3000:])
-    return results
-
-
-def _step(flow, name):
-    found = flow[name]
-    assert "exception" not in found, found.get("exception")
-    return found
+    return script_results("flow.py", package_zip, tmp_path_factory.mktemp("flow"))
 
 
 def test_installs_without_importing_the_painter(flow):

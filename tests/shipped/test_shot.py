@@ -2,7 +2,8 @@
 Cycles frames, the ``animate`` command (tests/shipped/shot.py), on every Blender `make test-shipped` builds."""
 
 import pytest
-from conftest import run_script
+from conftest import script_results
+from conftest import step as _step
 
 FIRST, FRAMES = 11, 4
 NAMES = ["{:04d}.png".format(n) for n in range(FIRST, FIRST + FRAMES)]
@@ -10,16 +11,7 @@ NAMES = ["{:04d}.png".format(n) for n in range(FIRST, FIRST + FRAMES)]
 
 @pytest.fixture(scope="module")
 def shot(package_zip, tmp_path_factory):
-    work = tmp_path_factory.mktemp("shot")
-    run, results = run_script("shot.py", package_zip, work, user_dir=work / "blender_user", cwd=work)
-    assert results, "shot.py printed no results:\n{}\n{}".format(run.stdout[-3000:], run.stderr[-3000:])
-    return results
-
-
-def _step(shot, name):
-    found = shot[name]
-    assert "exception" not in found, found.get("exception")
-    return found
+    return script_results("shot.py", package_zip, tmp_path_factory.mktemp("shot"))
 
 
 def test_paint_animation_paints_the_scenes_animation(shot):
