@@ -79,7 +79,7 @@ def painted(tmp_path_factory):
     return {"work": work, "frames": frames, "result": result}
 
 
-def test_run_animation_writes_the_films_and_figures(painted):
+def test_run_film_writes_the_films_and_figures(painted):
     out = painted["work"] / "out"
     for number in range(FIRST, FIRST + FRAMES):
         for folder in ("paper", "side_by_side"):
