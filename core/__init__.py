@@ -5,6 +5,7 @@ light: the array modules load on first use of ``analyze``.
 """
 
 from .errors import Cancelled, InputError, OutputError, PaintReliefError, ParameterError
+from .lazy import lazy_names
 from .params import Params, SequenceSettings
 from .version import __version__
 
@@ -15,26 +16,10 @@ __all__ = [
 ]
 
 
-def __getattr__(name):
-    if name in ("Analysis", "Painting"):
-        from . import results
-        return getattr(results, name)
-    if name == "analyze":
-        from .analysis.run import analyze
-        return analyze
-    if name == "paint":
-        from .methods.registry import paint
-        return paint
-    if name == "check_maps":
-        from .files.maps import check_maps
-        return check_maps
-    if name == "ensure_normal_map":
-        from .files.export import ensure_normal_map
-        return ensure_normal_map
-    if name == "paint_file":
-        from .api import paint_file
-        return paint_file
-    if name == "paint_sequence_files":
-        from .api import paint_sequence_files
-        return paint_sequence_files
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+# {public name: the module of this package that defines it}
+_HOMES = {"Analysis": "results", "Painting": "results", "analyze": "analysis.run", "paint": "methods.registry",
+          "check_maps": "files.maps", "ensure_normal_map": "files.export", "paint_file": "api",
+          "paint_sequence_files": "api"}
+
+__getattr__, __dir__ = lazy_names(__name__, _HOMES)
+

@@ -19,7 +19,7 @@ TOP_PACKAGES = ("core", "addon")
 # one. Within a package (one layer) the cycle test keeps the order. The base holds what every stage shares.
 CORE_LAYERS = [
     ("base", {"core.errors", "core.version", "core.params", "core.progress", "core.colour", "core.results",
-              "core.heap", "core.workers", "core.tuning"}),
+              "core.heap", "core.workers", "core.tuning", "core.lazy"}),
     ("lighting", {"core.lighting"}),
     ("files", {"core.files"}),
     ("analysis", {"core.analysis"}),

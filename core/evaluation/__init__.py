@@ -12,19 +12,11 @@ module (and NumPy, OpenImageIO) on first use, so ``core.evaluation.film_files``
 serves the extension before the painter's libraries are loaded.
 """
 
-import importlib
+from ..lazy import lazy_names
 
 # {public name: the module of this package that defines it}
 _HOMES = {"run_comparison": "comparison", "run_experiments": "experiments", "run_film": "film"}
 
 __all__ = list(_HOMES)
 
-
-def __getattr__(name):
-    if name in _HOMES:
-        return getattr(importlib.import_module("." + _HOMES[name], __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_HOMES))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES)

@@ -15,7 +15,7 @@ messages (``quiet``).
 extension before the painter's libraries are loaded.
 """
 
-import importlib
+from ..lazy import lazy_names
 
 # {public name: the module of this package that defines it}
 _HOMES = {
@@ -31,12 +31,4 @@ _HOMES = {
 
 __all__ = list(_HOMES)
 
-
-def __getattr__(name):
-    if name in _HOMES:
-        return getattr(importlib.import_module("." + _HOMES[name], __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_HOMES))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES)
