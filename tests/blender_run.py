@@ -22,10 +22,16 @@ def user_env(work):
     return dict(os.environ, BLENDER_USER_RESOURCES=str(Path(work) / "blender_user"))
 
 
+def run_script(script, args, work, timeout=600):
+    """Run the Python ``script`` with ``args`` in the folder ``work`` with a Blender user folder of its own there;
+    return the finished process (text output captured)."""
+    return subprocess.run([sys.executable, str(script), *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, env=user_env(work), cwd=work)
+
+
 def run_checks(script, work, *args, timeout=600):
     """Run ``script`` with ``args`` in the folder ``work``; return its findings (a dict)."""
-    run = subprocess.run([sys.executable, str(script), *map(str, args)], capture_output=True, text=True,
-                         timeout=timeout, env=user_env(work), cwd=work)
+    run = run_script(script, args, work, timeout)
     lines = [line for line in run.stdout.splitlines() if line.startswith("RESULTS ")]
     assert run.returncode == 0 and lines, "{} failed:\n{}\n{}".format(Path(script).name, run.stdout[-4000:],
                                                                     run.stderr[-4000:])

@@ -12,14 +12,13 @@ The pure helpers of addon/values.py are tested without Blender.
 
 import json
 import math
-import subprocess
-import sys
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 import pytest
 from addon_values import values
-from blender_run import need_bpy, run_checks, user_env
+from blender_run import need_bpy, run_checks, run_script
 from blender_run import step as _step
 from oracles import one_sentence_run
 
@@ -122,9 +121,7 @@ def _photo(path, w=48, h=32):
     return path
 
 
-def _compare(args, work, timeout=600):
-    return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, env=user_env(work), cwd=work)
+_compare = partial(run_script, SCRIPT)
 
 
 @pytest.fixture(scope="module")

@@ -155,28 +155,22 @@ def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(
 
 
 @pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
-def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_paints(tmp_path, footage):
+@pytest.mark.parametrize("painting", ["sequence", "batch"])
+def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_paints(tmp_path, footage, painting):
     shared, blind = shared_frames(footage[0], tmp_path)
     with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
-        joined = []
+        joined, farm = [], Farm(scheduler=dask.address)
         with pytest.raises(OutputError) as refused:
-            paint_sequence_files([shared], tmp_path / "out", Params(**PARAMS), progress=once_done(2, join, joined),
-                                 farm=Farm(scheduler=dask.address))
+            if painting == "sequence":
+                paint_sequence_files([shared], tmp_path / "out", Params(**PARAMS),
+                                     progress=once_done(2, join, joined), farm=farm)
+            else:
+                paint_batch(sorted(map(str, shared.iterdir())), tmp_path / "out", Params(**PARAMS),
+                            progress=once_done(1, join, joined), farm=farm)
     message = str(refused.value)
     assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
-    assert 2 <= len(list((tmp_path / "out").glob("painting_*.png"))) < FRAMES
-
-
-@pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
-def test_a_worker_that_joins_a_batch_and_cannot_see_the_stills_is_named(tmp_path, footage):
-    shared, blind = shared_frames(footage[0], tmp_path)
-    with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
-        joined = []
-        with pytest.raises(OutputError) as refused:
-            paint_batch(sorted(map(str, shared.iterdir())), tmp_path / "out", Params(**PARAMS),
-                        progress=once_done(1, join, joined), farm=Farm(scheduler=dask.address))
-    message = str(refused.value)
-    assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
+    if painting == "sequence":
+        assert 2 <= len(list((tmp_path / "out").glob("painting_*.png"))) < FRAMES
 
 
 def test_a_frame_written_twice_goes_to_two_staging_folders_of_the_same_bytes(tmp_path, footage):

@@ -10,12 +10,11 @@ in core; here the whole run, its files, its scene and its refusals.
 
 import json
 import os
-import subprocess
-import sys
+from functools import partial
 from pathlib import Path
 
 import pytest
-from blender_run import need_bpy, user_env
+from blender_run import need_bpy, run_checks, run_script
 from oracles import one_sentence_run
 from tiny_shot import FIRST, FRAMES, shot
 
@@ -29,9 +28,7 @@ NUMBERS = list(range(FIRST, FIRST + FRAMES))
 FILM_W, FILM_H = 64, 43  # the tiny shot's 96 x 64 px with a longer side of 64 px
 
 
-def _animate(args, work, timeout=600):
-    return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, env=user_env(work), cwd=work)
+_animate = partial(run_script, SCRIPT)
 
 
 @pytest.fixture(scope="module")
@@ -46,12 +43,8 @@ def end_to_end(tmp_path_factory):
     # Again on the painted folder itself, into another output folder.
     again = _animate([out / "painted", "-o", work / "again", "--samples", 2, "--size", 64, "--azimuth", 0], work)
     assert again.returncode == 0, again.stdout[-3000:] + again.stderr[-3000:]
-    blend = subprocess.run([sys.executable, str(BLEND_CHECKS), str(out / "scene.blend")], capture_output=True,
-                           text=True, timeout=300, env=user_env(work), cwd=work)
-    lines = [line for line in blend.stdout.splitlines() if line.startswith("RESULTS ")]
-    assert blend.returncode == 0 and lines, blend.stdout[-3000:] + blend.stderr[-3000:]
     return {"work": work, "out": out, "first": first, "again": again, "painted_bytes": painted_bytes,
-            "blend": json.loads(lines[-1][len("RESULTS "):])}
+            "blend": run_checks(BLEND_CHECKS, work, out / "scene.blend", timeout=300)}
 
 
 @pytest.mark.blender

@@ -18,7 +18,7 @@ import json
 import os
 import sys
 
-from recorder import RESULTS, check, load_extension
+from recorder import RESULTS, check, load_extension, shade_colour_map
 
 MAP_W, MAP_H = 64, 48
 
@@ -286,14 +286,8 @@ def main(work, render):
             from paint_relief.addon.scene import canvas
 
             material = canvas.find_role(scene, "canvas").active_material
-            tree = material.node_tree
-            colour = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexImage"
-                          and os.path.basename(n.image.filepath) == "color.exr")
-            output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-            emission = tree.nodes.new("ShaderNodeEmission")
+            emission = shade_colour_map(material, "ShaderNodeEmission", "Color", "Emission")
             emission.inputs["Strength"].default_value = 1.0
-            tree.links.new(colour.outputs["Color"], emission.inputs["Color"])
-            tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
             for obj in scene.objects:
                 if obj.type == "LIGHT":
                     obj.hide_render = True

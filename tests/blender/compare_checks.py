@@ -33,7 +33,7 @@ import math
 import os
 import sys
 
-from recorder import RESULTS, check
+from recorder import RESULTS, check, shade_colour_map
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -109,14 +109,8 @@ def main(work):
         canvas.set_relief(obj, False)
         modifier_strength = obj.modifiers[canvas.DISPLACE_MODIFIER].strength
         # A Lambertian surface of the colour map (no specular at all) ...
-        tree = obj.active_material.node_tree
-        colour = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexImage"
-                      and os.path.basename(n.image.filepath) == "color.exr")
-        output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-        diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse = shade_colour_map(obj.active_material, "ShaderNodeBsdfDiffuse", "Color", "BSDF")
         diffuse.inputs["Roughness"].default_value = 0.0
-        tree.links.new(colour.outputs["Color"], diffuse.inputs["Color"])
-        tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
         # ... lit only by a uniform white world of radiance 1: outgoing radiance = albedo.
         world = bpy.data.worlds.new("white")
         if world.node_tree is None:

@@ -35,3 +35,17 @@ def load_extension(work):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     paint_relief.register()
     return bpy
+
+
+def shade_colour_map(material, shader, colour_input, shader_output):
+    """Replace the canvas ``material``'s surface by a new node of type ``shader`` (e.g. "ShaderNodeEmission") whose
+    input ``colour_input`` reads the colour.exr texture and whose output ``shader_output`` is the surface; return
+    the new node."""
+    tree = material.node_tree
+    colour = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexImage"
+                  and os.path.basename(n.image.filepath) == "color.exr")
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    node = tree.nodes.new(shader)
+    tree.links.new(colour.outputs["Color"], node.inputs[colour_input])
+    tree.links.new(node.outputs[shader_output], output.inputs["Surface"])
+    return node
