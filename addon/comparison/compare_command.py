@@ -112,12 +112,13 @@ def paint(core, args, photo, params, out_dir, log):
     """Paint (or reuse) OUTDIR/painting from ``photo`` (INPUT as read); return its folder."""
     import json
 
+    from ...core.files import shot_files
+
     image, changed = scaled_input(core, photo, out_dir, args.size)
     painting_dir = out_dir / "painting"
-    report_path = painting_dir / "report.json"
-    if not changed and report_path.is_file():
+    if not changed and (painting_dir / shot_files.REPORT_FILE).is_file():
         try:
-            report = json.loads(report_path.read_text())
+            report = shot_files.read_report(painting_dir) or {}
         except (OSError, ValueError):
             report = {}
         same_input = Path(str(report.get("input", ""))).resolve() == image.resolve()

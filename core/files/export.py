@@ -19,6 +19,7 @@ from ..params import Params
 from ..results import Painting
 from ..version import __version__
 from . import quiet, reading, writing
+from .shot_files import REPORT_FILE
 
 
 def map_attributes(params: Params) -> dict:
@@ -36,7 +37,7 @@ def map_attributes(params: Params) -> dict:
 
 
 PAINTING_FILES = ("color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "lit_paper.png",
-                  "strokes.json", "report.json")
+                  "strokes.json", REPORT_FILE)
 """Every file ``write_painting`` writes, report.json last (and normal.exr when asked)."""
 
 NORMAL_FILE = "normal.exr"
@@ -182,5 +183,5 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
     report.update({"input": str(source), "input_page": 0, "input_pages": int(pages),
                    "params": painting.params.to_dict(), "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
-    writing.write_json(folder / "report.json", report)
+    writing.write_json(folder / REPORT_FILE, report)
     return report

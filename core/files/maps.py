@@ -12,12 +12,12 @@ seed equal to the report's.
 from __future__ import annotations
 
 import hashlib
-import json
 import pathlib
 from typing import Dict, Sequence, Tuple
 
 from ..errors import InputError
 from . import reading
+from .shot_files import REPORT_FILE, read_report
 from .staging import settle
 
 EXPECTED_CHANNELS = {
@@ -82,9 +82,11 @@ def check_painting(folder) -> str:
     InputError with one sentence naming the first file that disagrees.
     """
     folder = pathlib.Path(folder)
-    report_path = folder / "report.json"
+    report_path = folder / REPORT_FILE
     try:
-        report = json.loads(report_path.read_text(encoding="utf-8"))
+        report = read_report(folder)
+        if report is None:
+            raise FileNotFoundError(report_path)
         files = dict(report["files"])
         seed = str(report["seed"])
     except (OSError, ValueError, KeyError, TypeError) as exc:

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import Cancelled, OutputError, ParameterError
 from ..files.frames import Frames
 from ..files.lives import LIVES_FILE, append_frame
-from ..files.shot_files import REPORT_FILE, frame_file_names
+from ..files.shot_files import REPORT_FILE, frame_file_names, is_shot_report, read_report
 from ..files.staging import output_folder
 from ..files.writing import write_json
 from ..motion.source import motion_source
@@ -116,15 +116,14 @@ class Run:
     def resumed_report(self, folder: Path) -> dict:
         """The report of the frames already committed in ``folder`` when they are this run's (a new report when
         it holds none); OutputError naming the folder when it holds another sequence's frames or a still."""
-        path = folder / REPORT_FILE
-        if not path.exists():
-            return self.new_report()
         try:
-            report = json.loads(path.read_text(encoding="utf-8"))
+            report = read_report(folder)
         except (OSError, ValueError) as exc:
             raise OutputError(f"The output folder {folder} holds a report.json that cannot be read ({exc}); "
                               f"paint into another folder.") from exc
-        if "sequence" not in report:
+        if report is None:
+            return self.new_report()
+        if not is_shot_report(report):
             raise OutputError(f"The output folder {folder} holds a still painting; paint the sequence into "
                               f"another folder.")
         if report["sequence"] != self.key:
