@@ -43,3 +43,8 @@ def test_a_life_complete_at_its_carry_has_no_judging_bands_and_the_keys_run_in_o
                                                            PieceKey(SHOWN, 0)} <= made
         made.add(key)
     assert str(PieceKey(JUDGE, 3, 1)) == "judge1-3" and str(PieceKey(CARRY, 3)) == "carry-3"
+
+
+def test_a_committed_frame_keeps_only_its_picture_strokes_and_frame_shown_for_the_next():
+    assert PIECES.needed_by_next(0) == {PieceKey(PREPARE, 0), PieceKey(BIRTH, 0), PieceKey(SHOWN, 0)}
+    assert PIECES.needed_by_next(1) == {PieceKey(PREPARE, 1), PieceKey(BIRTH, 1), PieceKey(SHOWN, 1)}

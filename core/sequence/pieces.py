@@ -41,7 +41,7 @@ import enum
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
-from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
+from typing import Callable, List, NamedTuple, Optional, Sequence, Set, Tuple
 
 from ..progress import Stage
 from .frame_step import (
@@ -239,6 +239,14 @@ class ShotPieces:
         before = (PieceKey(PieceKind.PREPARE, t - 1), PieceKey(PieceKind.SHOWN, t - 1), motion) if t else ()
         return Piece(key, (prepared, lived, PieceKey(PieceKind.SHOWN, t)) + before,
                      partial(write, self.folder, self.numbers[t], shot))
+
+    def needed_by_next(self, index: int) -> Set[PieceKey]:
+        """The pieces of frame ``index`` that some piece of frame ``index`` + 1 (which must exist) needs: what a
+        runner keeps of a frame once it is committed."""
+        after = index + 1
+        keys = [PieceKey(kind, after) for kind in PieceKind]
+        return {need for key in keys for need in self.piece(key, row_bands(self.shot.shape[0], 1)).needs
+                if need.index == index}
 
     @staticmethod
     def life_start_keys(index: int) -> List[PieceKey]:

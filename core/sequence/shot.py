@@ -24,7 +24,7 @@ import json
 import shutil
 import time
 from pathlib import Path
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Set
 
 import numpy as np
 
@@ -40,7 +40,7 @@ from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
 from .frame_step import PaintedFrame
 from .frame_work import WrittenFrame
-from .pieces import PieceKey, PieceKind, ShotPieces, judging_bands
+from .pieces import Piece, PieceKey, PieceKind, ShotPieces, judging_bands
 from .shot_settings import ShotSettings
 from .state import STATE_FILE, load_state, save_state
 
@@ -161,12 +161,21 @@ class Run:
                 self.make(pieces.piece(key), made, stage)
             stage.check()
             bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
-            for key in pieces.life_end_keys(index, bands):
-                self.make(pieces.piece(key, bands), made, stage)
+            next_needs = pieces.needed_by_next(index) if index + 1 < count else set()
+            committed = {PieceKey(PieceKind.BIRTH, index), PieceKey(PieceKind.WRITE, index)}
+            self.make_in_order([pieces.piece(key, bands) for key in pieces.life_end_keys(index, bands)], made,
+                               stage, next_needs | committed)
             self.commit(folder, index, made[PieceKey(PieceKind.BIRTH, index)],
                         made[PieceKey(PieceKind.WRITE, index)], report)
-            for key in [key for key in made if key.index < index]:
-                del made[key]
+            release(made, next_needs)
+
+    def make_in_order(self, declared: List[Piece], made: Dict[PieceKey, object], stage: Stage,
+                      keep: Set[PieceKey]) -> None:
+        """Make the ``declared`` pieces in order (``make``); after each, let go of every result in ``made`` that no
+        piece still to make needs and that ``keep`` does not name, so a frame holds no more than it must."""
+        for position, piece in enumerate(declared):
+            self.make(piece, made, stage)
+            release(made, keep.union(*(later.needs for later in declared[position + 1:])))
 
     @staticmethod
     def make(piece, made: Dict[PieceKey, object], stage: Optional[Stage]):
@@ -206,6 +215,12 @@ class Run:
             report["lives"]["bytes"] = lives_bytes
             report.update(sequence_figures(report["per_frame"], len(self.frames.paths)))
             write_json(staging / REPORT_FILE, report)
+
+
+def release(made: Dict[PieceKey, object], needed: Set[PieceKey]) -> None:
+    """Remove from ``made`` every result whose key is not in ``needed``."""
+    for key in [key for key in made if key not in needed]:
+        del made[key]
 
 
 def frame_progress(progress: ProgressFn, number: int, index: int, count: int) -> ProgressFn:
