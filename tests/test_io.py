@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 
 import numpy as np
@@ -417,6 +418,37 @@ def test_write_json_numpy_and_order(tmp_path):
     assert list(json.loads(text)) == ["b", "a", "n", "nested"]
     assert json.loads(text) == {"b": 0.5, "a": [0, 1, 2], "n": 4, "nested": {"z": [True]}}
     assert text == json.dumps(json.loads(text), indent=2) + "\n"
+
+
+
+def strict_json(text: str):
+    """``text`` parsed as strict JSON: NaN, Infinity and -Infinity are refused."""
+    def refuse(constant):
+        raise ValueError(f"{constant} is not JSON")
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.mark.parametrize("indent", [2, None])
+def test_write_json_writes_null_for_a_figure_with_no_value(tmp_path, indent):
+    """NaN and infinities, Python's or NumPy's, in dicts, lists, tuples and arrays, become null: the file is strict
+    JSON; the finite values around them are written as they are."""
+    obj = {"mean": float("nan"), "psnr": math.inf, "low": -math.inf, "f32": np.float32("nan"),
+           "f64": np.float64("inf"), "pairs": [0.25, float("nan"), (1, np.nan)], "array": np.array([0.5, np.nan]),
+           "nested": {"ratio": np.float32(0.5), "n": np.int64(3), "ok": True, "none": None, "text": "NaN"}}
+    writing.write_json(tmp_path / "r.json", obj, indent=indent)
+    read = strict_json((tmp_path / "r.json").read_text())
+    assert read == {"mean": None, "psnr": None, "low": None, "f32": None, "f64": None,
+                    "pairs": [0.25, None, [1, None]], "array": [0.5, None],
+                    "nested": {"ratio": 0.5, "n": 3, "ok": True, "none": None, "text": "NaN"}}
+
+
+def test_write_json_of_finite_values_is_as_before(tmp_path):
+    """Finite data are written exactly as json.dumps writes them."""
+    obj = {"x": [0.1, 1e300, -2.5e-7, 3], "y": {"z": 1.0}}
+    writing.write_json(tmp_path / "r.json", obj)
+    writing.write_json(tmp_path / "c.json", obj, indent=None)
+    assert (tmp_path / "r.json").read_text() == json.dumps(obj, indent=2) + "\n"
+    assert (tmp_path / "c.json").read_text() == json.dumps(obj, separators=(",", ":")) + "\n"
 
 
 def test_exif_orientation_is_honoured(tmp_path):

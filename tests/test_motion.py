@@ -7,6 +7,7 @@ render in tests/test_vector_pass_blender.py.
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -29,6 +30,7 @@ from core.motion import (
     warp_back,
     warping_error,
 )
+from core.motion.warp import reach, within_reach
 
 H, W = 32, 48
 SHIFT = (1.25, -0.5)  # px, x right, y down: frame t+1 is frame t moved by this
@@ -72,11 +74,11 @@ def test_vector_pass_to_forward_and_backward_motion():
 
 
 def test_motion_pair_takes_forward_from_frame_t_and_backward_from_frame_t_plus_1():
-    pass_t = np.tile(np.float32([1.0, 2.0, 3.0, 4.0]), (4, 5, 1))
-    pass_next = np.tile(np.float32([10.0, 20.0, 30.0, 40.0]), (4, 5, 1))
+    pass_t = np.tile(np.float32([1.0, 2.0, 3.0, 4.0]), (24, 32, 1))
+    pass_next = np.tile(np.float32([10.0, 20.0, 30.0, 40.0]), (24, 32, 1))
     forward, backward = motion_pair(pass_t, pass_next)
-    assert np.array_equal(forward, uniform((-3.0, 4.0), (4, 5)))
-    assert np.array_equal(backward, uniform((10.0, -20.0), (4, 5)))
+    assert np.array_equal(forward, uniform((-3.0, 4.0), (24, 32)))
+    assert np.array_equal(backward, uniform((10.0, -20.0), (24, 32)))
     with pytest.raises(ValueError, match="differ in size"):
         motion_pair(pass_t, pass_next[:3])
     with pytest.raises(ValueError, match=r"\(H, W, 4\)"):
@@ -232,3 +234,66 @@ def test_heights_normalised_over_the_sequence():
     assert not normalise(heights[0], 2.0, 2.0).any()
     with pytest.raises(ValueError, match="no finite value"):
         value_range([np.float32([np.nan])])
+
+
+# --- motions no pixel that stays in the frame can have ----------------------------------------------------------
+
+ABSURD = (1e30, -1e30, np.inf, -np.inf, np.nan)
+"""Values a Vector pass may hold that no motion can have."""
+
+
+def quietly(work):
+    """``work()``'s result, with every NumPy floating-point error and every warning raised instead of printed."""
+    with warnings.catch_warnings(), np.errstate(all="raise"):
+        warnings.simplefilter("error")
+        return work()
+
+
+def test_a_motion_within_reach_is_the_same_array():
+    motion = uniform((W + H, -(W + H)))
+    assert reach(H, W) == W + H
+    assert within_reach(motion) is motion
+
+
+@pytest.mark.parametrize("value", ABSURD)
+def test_a_motion_out_of_reach_is_clipped_to_it_and_still_leaves_the_frame(value):
+    motion = uniform((0.5, -1.0))
+    motion[3, 4, 0] = value
+    motion[5, 6, 1] = value
+    bounded = quietly(lambda: within_reach(motion))
+    limit = W + H
+    expected_x = limit if np.isnan(value) or value > 0 else -limit
+    assert bounded[3, 4].tolist() == [expected_x, -1.0] and bounded[5, 6].tolist() == [0.5, expected_x]
+    untouched = np.ones((H, W), bool)
+    untouched[3, 4] = untouched[5, 6] = False
+    assert np.array_equal(bounded[untouched], motion[untouched])
+    assert not inside_frame(pixel_positions(H, W) + bounded, H, W)[[3, 5], [4, 6]].any()
+
+
+@pytest.mark.parametrize("value", ABSURD)
+def test_a_vector_pass_out_of_reach_leaves_the_frame_quietly(value):
+    """A Vector pass with values no motion can have: its pixels are not visible, not still and not a figure's;
+    the rest of the frame is as it was, and nothing overflows or warns."""
+    vector_pass = np.zeros((H, W, 4), np.float32)
+    vector_pass[:H // 2] = value
+    forward, backward = quietly(lambda: motion_pair(vector_pass, vector_pass))
+    assert np.isfinite(forward).all() and np.isfinite(backward).all()
+    frame, next_frame = translated_pair(smooth_scene, (0.0, 0.0))
+    visible = quietly(lambda: visible_in_both(forward, backward))
+    still = quietly(lambda: still_pixels(forward, backward))
+    assert not visible[:H // 2].any() and not still[:H // 2].any()
+    assert visible[H // 2 + 1:].all() and still[H // 2:].all()
+    assert quietly(lambda: warping_error(frame, next_frame, forward, visible)) == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("value", ABSURD)
+def test_visibility_of_a_motion_out_of_reach_given_directly_is_quiet(value):
+    """The visibility functions take any motion: one out of reach is not visible, without a warning."""
+    forward, backward = uniform((1.0, 0.0)), uniform((-1.0, 0.0))
+    forward[:, :W // 2] = value
+    backward[:H // 2] = value
+    visible = quietly(lambda: visible_in_both(forward, backward))
+    assert not visible[:, :W // 2].any()
+    assert not quietly(lambda: round_trip_consistent(uniform((1.0, 0.0)), backward))[:H // 2].any()
+    assert quietly(lambda: motion_boundary(forward))[:, W // 2 - 1:W // 2 + 1].all()
+    assert not quietly(lambda: still_pixels(forward, backward))[:, :W // 2].any()

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import pathlib
 import secrets
@@ -268,14 +269,37 @@ def _json_default(value):
 
 
 def write_json(path: PathLike, obj, indent: Optional[int] = 2) -> None:
-    """Write ``obj`` as JSON (``indent`` spaces, None for compact; keys in given order; final newline), atomically.
+    """Write ``obj`` as strict JSON (``indent`` spaces, None for compact; keys in given order; final newline),
+    atomically.
 
-    NumPy scalars and arrays and paths are converted to plain JSON values.
-    Failures to write raise OutputError naming the file.
+    NumPy scalars and arrays and paths are converted to plain JSON values; a
+    float that is NaN or infinite (a figure with no value) is written as
+    null, so strict parsers read the file. Failures to write raise
+    OutputError naming the file.
     """
     separators = None if indent is not None else (",", ":")
-    text = json.dumps(obj, indent=indent, separators=separators, sort_keys=False, default=_json_default) + "\n"
-    write_text(path, text)
+    options = dict(indent=indent, separators=separators, sort_keys=False, default=_json_default, allow_nan=False)
+    try:
+        text = json.dumps(obj, **options)
+    except ValueError:
+        text = json.dumps(finite_or_null(obj), **options)
+    write_text(path, text + "\n")
+
+
+def finite_or_null(value):
+    """``value`` (dicts, lists and tuples of JSON values, NumPy scalars and arrays) with every NaN or infinite
+    float replaced by None, recursively; containers become dicts and lists, other values are kept."""
+    if isinstance(value, dict):
+        return {key: finite_or_null(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_or_null(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return finite_or_null(value.tolist())
+    if isinstance(value, np.generic):
+        return finite_or_null(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def write_text(path: PathLike, text: str) -> None:

@@ -20,7 +20,7 @@ from typing import Iterable, Tuple
 
 import numpy as np
 
-from .warp import warp_back
+from .warp import warp_back, within_reach
 
 STILL_MOTION = 0.25  # px: a pixel moving less than this both ways does not move
 
@@ -49,11 +49,12 @@ def still_pixels(forward: np.ndarray, backward: np.ndarray) -> np.ndarray:
 
     forward: (H, W, 2) w_f of frame t; backward: (H, W, 2) w_b of frame t+1
     (a pixel that does not move is the same pixel in both frames), px.
-    Returns bool (H, W): |w_f| < 0.25 px and |w_b| < 0.25 px.
+    Returns bool (H, W): |w_f| < 0.25 px and |w_b| < 0.25 px (a motion out of reach, ``warp.within_reach``,
+    moves).
     """
     limit = np.float32(STILL_MOTION ** 2)
-    moves_forward = np.sum(np.square(np.asarray(forward, dtype=np.float32)), axis=-1)
-    moves_backward = np.sum(np.square(np.asarray(backward, dtype=np.float32)), axis=-1)
+    moves_forward = np.sum(np.square(within_reach(forward)), axis=-1)
+    moves_backward = np.sum(np.square(within_reach(backward)), axis=-1)
     return (moves_forward < limit) & (moves_backward < limit)
 
 

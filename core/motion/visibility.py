@@ -11,13 +11,17 @@ GPU-accelerated large displacement optical flow"). A pixel x of frame t is
   with (u, v) = w_f and its gradients by central differences (``np.gradient``).
 
 Motions are float32 (H, W, 2) in pixels, x right, y down (``vector_pass``).
+A motion no pixel that stays in the frame can have (longer than the frame's
+width plus its height, infinite or NaN) is taken within reach first
+(``warp.within_reach``): its pixel leaves the frame, is not visible, and
+no figure overflows.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .warp import warp_back
+from .warp import warp_back, within_reach
 
 CONSISTENCY_SHARE = 0.01  # of |w_f|² + |w_b|²: how far the round trip may miss, relative to the motion
 CONSISTENCY_SLACK = 0.5  # px²: how far it may miss when nothing moves
@@ -38,6 +42,7 @@ def round_trip_consistent(forward: np.ndarray, backward_there: np.ndarray) -> np
     pixels go (``warp.warp_back(backward, forward)``), both in px.
     Returns bool (H, W).
     """
+    forward, backward_there = within_reach(forward), within_reach(backward_there)
     missed = _squared_length(forward + backward_there)
     allowed = CONSISTENCY_SHARE * (_squared_length(forward) + _squared_length(backward_there)) + CONSISTENCY_SLACK
     return missed <= allowed
@@ -50,7 +55,7 @@ def motion_boundary(forward: np.ndarray) -> np.ndarray:
     (H, W): |∇u|² + |∇v|² > 0.01 |w_f|² + 0.002, gradients in px per px by
     central differences (one-sided at the edges).
     """
-    motion = np.asarray(forward, dtype=np.float32)
+    motion = within_reach(forward)
     steepness = np.zeros(motion.shape[:2], dtype=np.float32)
     for component in (motion[..., 0], motion[..., 1]):
         for slope in np.gradient(component):
@@ -75,6 +80,6 @@ def comes_back(forward: np.ndarray, backward: np.ndarray) -> np.ndarray:
     forward: float32 (H, W, 2) w_f, frame t -> t+1; backward: float32 (H, W, 2) w_b, frame t+1 -> t, in px.
     Returns bool (H, W): ``visible_in_both`` without the motion-boundary test.
     """
-    motion = np.asarray(forward, dtype=np.float32)
-    backward_there, inside = warp_back(backward, motion)
+    motion = within_reach(forward)
+    backward_there, inside = warp_back(within_reach(backward), motion)
     return inside & round_trip_consistent(motion, backward_there)

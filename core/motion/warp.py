@@ -7,7 +7,10 @@ interpolation needs no value from outside the image, give or take
 EDGE_TOLERANCE (a motion read from a file is rounded to float32: a pixel
 moved exactly onto the edge must not fall out by 1e-6 px). A position
 outside the frame (or not finite) is not visible: its sample is the nearest
-edge's value and the mask returned with it says False.
+edge's value and the mask returned with it says False. A motion longer than
+the frame's width plus its height (``reach``) takes every pixel out of the
+frame; ``within_reach`` clips such motions (1e30 px, infinities, NaN) to that
+length, so they leave the frame in numbers whose squares stay finite.
 """
 
 from __future__ import annotations
@@ -17,6 +20,23 @@ from typing import Tuple
 import numpy as np
 
 EDGE_TOLERANCE = 1e-3  # px: how far outside the pixel centres a position still counts as in the frame
+
+
+def reach(height: int, width: int) -> float:
+    """px: the frame's width plus its height, further than any pixel of a (height, width) frame can move and stay
+    in it."""
+    return float(height + width)
+
+
+def within_reach(motion: np.ndarray) -> np.ndarray:
+    """(H, W, 2) ``motion`` (float32, px) with each component clipped to +-``reach`` of its frame, NaN set to
+    +``reach``: a motion that leaves the frame still leaves it, in numbers whose squares are finite. A motion
+    within reach (every motion a pixel that stays in the frame can have) is returned unchanged, the same array."""
+    motion = np.asarray(motion, dtype=np.float32)
+    limit = np.float32(reach(*motion.shape[:2]))
+    if np.all(np.abs(motion) <= limit):
+        return motion
+    return np.clip(np.nan_to_num(motion, nan=limit, posinf=limit, neginf=-limit), -limit, limit)
 
 
 def pixel_positions(height: int, width: int) -> np.ndarray:
