@@ -192,6 +192,25 @@ def _append(path: pathlib.Path, record: bytes, frame: int, committed_bytes: int)
             raise _output_error(path, exc) from exc
 
 
+def cut_lives(path: PathLike, length: int) -> bool:
+    """Cut the lives file at ``path`` back to ``length`` bytes (a committed length; 0 removes the file, as no frame
+    is committed); True when it was longer and is cut. Failures are left to the next append, which cuts the file
+    first: the result is then False."""
+    path = pathlib.Path(path)
+    try:
+        size = path.stat().st_size
+        if size <= length:
+            return False
+        if length == 0:
+            path.unlink()
+        else:
+            os.truncate(path, length)
+        fsync_folder(path.parent)
+    except OSError:
+        return False
+    return True
+
+
 def _cut_quietly(f, length: int) -> None:
     """Cut the open file ``f`` back to ``length`` bytes after a failed append; a failure here changes nothing the
     next append does not (it cuts the file first)."""
@@ -487,6 +506,24 @@ class LivesFile:
         death[np.searchsorted(ids, np.concatenate([np.zeros(0, np.int64), *died]))] = np.concatenate(
             [np.zeros(0, np.int64), *died_at])
         return Lives(self.frames.copy(), ids, birth, death)
+
+    def ends(self) -> np.ndarray:
+        """int64 (F,): the byte after each record (the file's length once that record is the last)."""
+        return self.offsets + np.array([h.length for h in self._headers], np.int64)
+
+    def record_bytes(self, index: int) -> bytes:
+        """The stored bytes of record ``index`` (0-based, file order), header to trailer."""
+        with self._open() as f:
+            return _read_at(self.path, f, int(self.offsets[index]), self._headers[index].length)
+
+    def check(self) -> None:
+        """InputError (one sentence naming the file and the record) unless every record decodes whole: each
+        section decompresses to its length (zlib's Adler-32 checks its bytes), its ids ascend, every stroke has
+        control points, and no stroke is born twice."""
+        with self._open() as f:
+            for index in range(len(self._headers)):
+                self._decoded(f, index)
+        self.lives()
 
     def stroke_paths(self, stroke_id: int) -> Dict[int, np.ndarray]:
         """{frame: float64 (c, 2) control points (x, y) px} of stroke ``stroke_id`` in every frame it lives in, in

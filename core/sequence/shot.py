@@ -24,15 +24,15 @@ import json
 import shutil
 import time
 from pathlib import Path
-from typing import Dict, List, Optional, Set
+from typing import Callable, Dict, List, Optional, Set
 
 import numpy as np
 
-from ..errors import Cancelled, OutputError, ParameterError
+from ..errors import Cancelled, OutputError, ParameterError, plain_cause
 from ..files.frames import Frames
-from ..files.lives import LIVES_FILE, append_frame
+from ..files.lives import LIVES_FILE, append_frame, cut_lives
 from ..files.shot_files import REPORT_FILE, frame_file_names, is_shot_report, read_report
-from ..files.staging import output_folder
+from ..files.staging import JOURNAL_NAME, output_folder
 from ..files.writing import write_json
 from ..motion.source import motion_source
 from ..params import Params, SequenceSettings
@@ -41,6 +41,7 @@ from ..version import __version__
 from .frame_step import PaintedFrame
 from .frame_work import WrittenFrame
 from .pieces import Piece, PieceKey, PieceKind, ShotPieces, judging_bands
+from .shot_folder import Resume, ShotFolder
 from .shot_settings import ShotSettings
 from .state import STATE_FILE, load_state, save_state
 
@@ -59,15 +60,21 @@ def input_digest(path: Path) -> str:
 
 
 def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optional[SequenceSettings] = None,
-                   progress: ProgressFn = None, cancel: CancelFn = None, frames_painter=None) -> dict:
+                   progress: ProgressFn = None, cancel: CancelFn = None, frames_painter=None,
+                   notice: Optional[Callable[[str], None]] = None) -> dict:
     """Paint ``frames`` into ``output_dir`` (module docstring) with ``settings`` (default ``SequenceSettings()``);
     return the sequence's report.
 
     Refusals (one sentence, the folder untouched): parameters out of range or a layout other than the paper's;
     frames of which only some carry a Vector pass; a folder holding another sequence's frames or a still
-    painting. progress(fraction, message) reports the frame and the work within it; cancel() stops between
-    stages (complete frames stay). frames_painter(run, start, report, folder, progress, cancel) paints and commits
-    the frames from ``start`` on elsewhere (``core.farm.sequence.ClusterFrames``); by default this process paints
+    painting; a folder whose report.json, state, lives file and maps do not agree and cannot be repaired
+    (``shot_folder.ShotFolder``). A folder that can be repaired is, before painting, and the repair is said in one
+    sentence: to ``notice(sentence)``, else to progress(0, sentence), and as the returned report's "repaired".
+    A folder that cannot be written while a frame is (a full disk, a lost mount, a permission changed) is an
+    OutputError of one sentence naming the folder and the cause; the frames committed before stay whole.
+    progress(fraction, message) reports the frame and the work within it; cancel() stops between stages
+    (complete frames stay). frames_painter(run, start, report, folder, progress, cancel) paints and commits the
+    frames from ``start`` on elsewhere (``core.farm.sequence.ClusterFrames``); by default this process paints
     them (``Run.paint_from``), with the same bytes.
     """
     settings = settings or SequenceSettings()
@@ -77,22 +84,50 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
         raise ParameterError(f"A sequence is painted with the paper's layout; the layout {params.layout} paints "
                              f"still images only.")
     run = Run(frames, shot_settings(frames, params, settings))
+    repaired = None
     with output_folder(output_dir) as folder:
         report = run.resumed_report(folder.folder)
+        shot_folder = ShotFolder(folder.folder)
+        resume = shot_folder.check(report)
         folder.check_names([name for number in frames.numbers for name in frame_file_names(number, settings.normal_map)]
                            + [REPORT_FILE, STATE_FILE])
-        done = len(report["per_frame"])
-        if done < len(frames.paths):
-            try:
+        try:
+            report, repaired = run.repaired(folder, shot_folder, resume, report)
+            if repaired is not None:
+                tell(repaired, notice, progress)
+            done = len(report["per_frame"])
+            if done < len(frames.paths):
                 if frames_painter is None:
                     run.paint_from(done, report, folder, progress, cancel)
                 else:
                     frames_painter(run, done, report, folder, progress, cancel)
-            except Cancelled:
-                raise Cancelled(f"The run was cancelled; the frames in {output_dir} are complete, and painting the "
-                                f"sequence again goes on after the last of them.") from None
+        except Cancelled:
+            raise Cancelled(f"The run was cancelled; the frames in {output_dir} are complete, and painting the "
+                            f"sequence again goes on after the last of them.") from None
+        except (OSError, OutputError) as exc:
+            raise run.write_fault(folder.folder, report, exc) from exc
     report["output_dir"] = str(Path(output_dir).resolve())
+    if repaired is not None:
+        report["repaired"] = repaired
     return report
+
+
+def tell(sentence: str, notice: Optional[Callable[[str], None]], progress: ProgressFn) -> None:
+    """Say ``sentence`` to ``notice``, else as progress at 0."""
+    if notice is not None:
+        notice(sentence)
+    elif progress is not None:
+        progress(0.0, sentence)
+
+
+def frames_phrase(numbers: List[int]) -> str:
+    """"frames 1-3 there are complete" of the committed frames ``numbers``; "no frame there is complete yet"
+    when none is."""
+    if not numbers:
+        return "no frame there is complete yet"
+    if len(numbers) == 1:
+        return f"frame {numbers[0]} there is complete"
+    return f"frames {numbers[0]}-{numbers[-1]} there are complete"
 
 
 def shot_settings(frames: Frames, params: Params, settings: SequenceSettings) -> ShotSettings:
@@ -136,6 +171,52 @@ class Run:
                 raise OutputError(f"The output folder {folder} holds frame {entry['frame']} painted from another "
                                   f"input than {path}; paint into another folder.")
         return report
+
+    def repaired(self, folder, shot_folder: ShotFolder, resume: Resume, report: dict):
+        """(report, sentence): the report to go on from and the one sentence of the repair of ``folder`` (None
+        when nothing was repaired), with the repair ``resume`` written (``ShotFolder.repair``). The report's
+        frames beyond ``resume.keep`` are dropped; when frames remain to paint, its "input" and "frame_count"
+        become this run's."""
+        committed = len(report["per_frame"])
+        rolled = resume.keep < committed
+        if rolled:
+            report = self.rolled_back(report, resume.keep, resume.lives_bytes)
+        if len(report["per_frame"]) < len(self.frames.paths):
+            report["input"] = [str(p) for p in self.frames.paths]
+            report["frame_count"] = len(self.frames.paths)
+        if not resume.problems:
+            return report, None
+        shot_folder.repair(folder, resume, report, rolled)
+        return report, shot_folder.sentence(resume, committed, self.frames.numbers)
+
+    def rolled_back(self, report: dict, keep: int, lives_bytes: int) -> dict:
+        """``report`` with its first ``keep`` frames only (a new report when ``keep`` is 0), the lives file's
+        length after them ``lives_bytes``, and the figures of those frames."""
+        if keep == 0:
+            return self.new_report()
+        rolled = json.loads(json.dumps(report))
+        rolled["per_frame"], rolled["frames"] = rolled["per_frame"][:keep], rolled["frames"][:keep]
+        rolled["lives"]["bytes"] = lives_bytes
+        rolled.update(sequence_figures(rolled["per_frame"], len(self.frames.paths)))
+        return rolled
+
+    def write_fault(self, folder: Path, report: dict, exc: Exception) -> Exception:
+        """The OutputError of ``exc``, a failure to write frame after ``report``'s last into ``folder``: one
+        sentence naming the folder and the cause. ``exc`` itself when it is a commit the next run completes."""
+        if isinstance(exc, OutputError) and exc.cause is None and "the next run into that folder" in str(exc):
+            return exc
+        if isinstance(exc, OSError):
+            cause = plain_cause(exc, folder)
+        elif exc.cause is not None:
+            cause = exc.cause
+        else:
+            text = str(exc).rstrip(".")
+            cause = text[:1].lower() + text[1:]
+        done = len(report["per_frame"])
+        number = self.frames.numbers[min(done, len(self.frames.numbers) - 1)]
+        return OutputError(f"The output folder {folder} could not be written while frame {number} was committed "
+                           f"({cause}); {frames_phrase(report['frames'])}, and the same command goes on after them "
+                           f"once the folder can be written again.", folder, cause)
 
     def new_report(self) -> dict:
         """The report of a sequence with no frame painted yet."""
@@ -191,30 +272,38 @@ class Run:
 
     def commit(self, folder, index: int, painted: PaintedFrame, written: WrittenFrame, report: dict) -> None:
         """Commit frame ``index``: append its strokes to the lives file, then its maps (written into a staging
-        folder), the state and the report all together."""
+        folder), the state and the report all together; ``report`` becomes the report committed. When the commit
+        fails, the lives file is cut back to the frames committed before and the exception raised."""
         clock = time.perf_counter()
         number, path = self.frames.numbers[index], self.frames.paths[index]
         strokes = painted.living.strokes
+        lives_path, committed = folder.folder / LIVES_FILE, report["lives"]["bytes"]
         try:
-            lives_bytes = append_frame(folder.folder / LIVES_FILE, number, painted.living.ident, strokes.control,
-                                       strokes.control_count, report["lives"]["bytes"])
+            lives_bytes = append_frame(lives_path, number, painted.living.ident, strokes.control,
+                                       strokes.control_count, committed)
         except BaseException:
             shutil.rmtree(written.staging, ignore_errors=True)
             raise
         entry = {"frame": number, "input": path.name, "input_sha256": input_digest(path),
                  "alive": len(painted.living), "born": painted.born, "died": painted.died,
                  "dying": int(np.count_nonzero(painted.living.dying)), **written.entry}
-        with folder.staged(written.staging) as staging:
-            save_state(staging / STATE_FILE, painted, index, lives_bytes)
-            seconds = dict(painted.seconds, **written.seconds)
-            seconds["writing"] += time.perf_counter() - clock
-            entry["seconds"] = {name: round(value, 4) for name, value in seconds.items()}
-            entry["files"] = written.files
-            report["per_frame"].append(entry)
-            report["frames"].append(number)
-            report["lives"]["bytes"] = lives_bytes
-            report.update(sequence_figures(report["per_frame"], len(self.frames.paths)))
-            write_json(staging / REPORT_FILE, report)
+        try:
+            with folder.staged(written.staging) as staging:
+                save_state(staging / STATE_FILE, painted, index, lives_bytes)
+                seconds = dict(painted.seconds, **written.seconds)
+                seconds["writing"] += time.perf_counter() - clock
+                entry["seconds"] = {name: round(value, 4) for name, value in seconds.items()}
+                entry["files"] = written.files
+                updated = dict(report, per_frame=report["per_frame"] + [entry], frames=report["frames"] + [number],
+                               lives=dict(report["lives"], bytes=lives_bytes))
+                updated.update(sequence_figures(updated["per_frame"], len(self.frames.paths)))
+                write_json(staging / REPORT_FILE, updated)
+        except BaseException:
+            if not (folder.folder / JOURNAL_NAME).exists():
+                cut_lives(lives_path, committed)
+            raise
+        report.clear()
+        report.update(updated)
 
 
 def release(made: Dict[PieceKey, object], needed: Set[PieceKey]) -> None:

@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import dataclasses
 import zipfile
+import zlib
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, plain_cause
 from ..strokes.stroke_list import StrokeList
 from .frame_step import PaintedFrame
 from .living import LivingStrokes
@@ -50,16 +51,47 @@ def save_state(path: Path, frame: PaintedFrame, index: int, lives_bytes: int) ->
 
 
 def load_state(path: Path) -> SavedState:
-    """The state written by ``save_state``; InputError naming the file when it cannot be read."""
+    """The state written by ``save_state``; InputError (one sentence naming the file) when it is missing, is not
+    an archive of arrays (nothing in it is ever unpickled) or lacks the arrays of a state."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(_unreadable(path, "it does not exist"))
     try:
+        if not zipfile.is_zipfile(path):
+            raise InputError(_unreadable(path, "it is not an archive of arrays that Paint Relief wrote"))
         with np.load(path, allow_pickle=False) as data:
             arrays = {name: data[name] for name in data.files}
-        strokes = StrokeList(**{name: arrays[f"list_{name}"] for name in _LIST_FIELDS})
-        index, lives_bytes, next_ident, fade_frames, born, died = (int(v) for v in arrays["counters"])
-        living = LivingStrokes(strokes, **{name: arrays[f"life_{name}"] for name in _LIFE_FIELDS},
-                               fade_frames=fade_frames)
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
-        raise InputError(f"The sequence state {path} cannot be read ({exc}); paint the sequence into a new "
-                         f"folder.") from exc
-    return SavedState(PaintedFrame(living, None, arrays["error"], arrays["fresh"], arrays["opacity"], next_ident, born, died, {}),
-                      index, lives_bytes)
+    except FileNotFoundError:
+        raise InputError(_unreadable(path, "it does not exist")) from None
+    except OSError as exc:
+        raise InputError(_unreadable(path, plain_cause(exc))) from None
+    except (KeyError, ValueError, EOFError, zipfile.BadZipFile, zlib.error):
+        raise InputError(_unreadable(path, "its arrays are damaged")) from None
+    try:
+        return _saved_state(arrays)
+    except (KeyError, ValueError, TypeError, IndexError):
+        raise InputError(_unreadable(path, "it lacks the arrays of a sequence state or they do not fit "
+                                           "together")) from None
+
+
+def _unreadable(path: Path, problem: str) -> str:
+    """The one sentence of a state file ``path`` that cannot be used because of ``problem`` (no full stop)."""
+    return f"The sequence state {path} cannot be used: {problem}; paint the sequence into another folder."
+
+
+def _saved_state(arrays: dict) -> SavedState:
+    """The SavedState of the ``arrays`` of a state file (by name); KeyError, ValueError, TypeError or IndexError
+    when they are not a state's."""
+    strokes = StrokeList(**{name: arrays[f"list_{name}"] for name in _LIST_FIELDS})
+    counters = arrays["counters"]
+    if counters.dtype != np.int64 or counters.shape != (6,):
+        raise ValueError("the counters are not six 64-bit integers")
+    index, lives_bytes, next_ident, fade_frames, born, died = (int(v) for v in counters)
+    living = LivingStrokes(strokes, **{name: arrays[f"life_{name}"] for name in _LIFE_FIELDS},
+                           fade_frames=fade_frames)
+    n = len(living.ident)
+    if index < 0 or lives_bytes <= 0 or len(strokes) != n or any(len(getattr(living, name)) != n
+                                                                  for name in ("birth", "level", "dying")):
+        raise ValueError("the arrays do not fit together")
+    return SavedState(PaintedFrame(living, None, arrays["error"], arrays["fresh"], arrays["opacity"], next_ident,
+                                   born, died, {}), index, lives_bytes)
