@@ -386,3 +386,35 @@ def test_a_record_whose_stroke_count_disagrees_with_its_sections_is_refused(tmp_
         with pytest.raises(InputError) as error:
             read()
         assert "does not decompress to its values" in one_sentence(error, path)
+
+
+def test_check_reads_every_record_whole_so_damaged_points_in_an_early_record_are_found(hand):
+    path, frames = hand
+    index = lives.LivesFile(path)
+    index.check()
+    assert index.ends().tolist() == _lengths(path, frames)
+    assert index.record_bytes(1) == encode_record(2, *padded(frames[2], 6))
+    start = int(index.offsets[1])
+    sections = np.cumsum(np.frombuffer(path.read_bytes()[start + 12:start + 44], "<u4"))
+    data = bytearray(path.read_bytes())
+    data[start + 48 + int(sections[5]) - 3] ^= 0x5A
+    path.write_bytes(bytes(data))
+    lives.LivesFile(path).lives()        # the ids alone still read
+    with pytest.raises(InputError) as error:
+        lives.LivesFile(path).check()
+    assert "the record of frame 2 at byte" in one_sentence(error, path)
+
+
+def _lengths(path, frames: dict) -> list:
+    """The file's length after each of ``frames`` (written again into a sibling file)."""
+    return write(path.with_name("again.lives"), frames, width=6)
+
+
+def test_cut_lives_cuts_to_a_committed_length_and_removes_the_file_at_0(hand):
+    path, frames = hand
+    lengths = _lengths(path, frames)
+    assert not lives.cut_lives(path, lengths[-1])
+    assert lives.cut_lives(path, lengths[2])
+    assert lives.LivesFile(path).frames.tolist() == [1, 2, 3]
+    assert lives.cut_lives(path, 0) and not path.exists()
+    assert not lives.cut_lives(path, 0)
