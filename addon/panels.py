@@ -124,7 +124,11 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
             else:
                 _note(layout, os.path.join(properties.paintings_parent(context), values.folder_stem(
                     shot_source.source_name(settings, scene)) + "_NNN"))
-        layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
+        if settings.method == "HERTZMANN98":
+            layout.label(text="Shots are painted with the paper's method: choose Huang 2011 in Paint",
+                         icon="ERROR")
+        else:
+            layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
         layout.operator("paint_relief.paint_animation", icon="RENDER_ANIMATION")
 
 

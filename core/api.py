@@ -9,7 +9,7 @@ from typing import Callable, Optional
 from .errors import InputError, PaintReliefError, ParameterError
 from .files import budget, reading
 from .files.staging import output_folder
-from .params import Params
+from .params import Params, SequenceSettings
 from .progress import CancelFn, ProgressFn, Stage
 
 
@@ -83,19 +83,23 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
 
     inputs: one folder, one ``#`` pattern or frame files in order (``files.frames.find_frames``; a single path
     may be given as it is, not in a list); frame_range:
-    ``"A-B"`` or None for every frame; settings: a ``SequenceSettings`` (None for the defaults). The frames, the
-    parameters, the stroke sizes and the memory estimate of one frame are checked from headers before any work
-    (a PaintReliefError of one sentence). Every frame is committed whole; stopped anywhere (an error, a signal,
+    ``"A-B"`` or None for every frame; settings: a ``SequenceSettings`` (None for the defaults). The parameters
+    (the paper's method and layout: ``Params.validate_shot``), the frames (``find_frames``), an output folder
+    that would mix the shot's files with its frames (``check_output_folder``), the stroke sizes and the memory
+    estimate of one frame are checked from names and headers before any work (a PaintReliefError of one
+    sentence). Every frame is committed whole; stopped anywhere (an error, a signal,
     ``cancel``), the folder keeps complete frames only and the same call goes on after the last of them.
     farm: a ``core.farm.cluster.Farm`` (local workers or a scheduler's address) to paint the frames on a Dask
     cluster, with the same bytes; None paints in this process and imports no Dask.
     """
-    from .files.frames import find_frames
+    from .files.frames import check_output_folder, find_frames
     from .sequence.shot import paint_sequence
 
-    params.validate()
-    inputs = [inputs] if isinstance(inputs, (str, os.PathLike)) else inputs
-    frames = find_frames([str(path) for path in inputs], frame_range, params.max_megapixels)
+    params.validate_shot()
+    settings = (settings or SequenceSettings()).validate()
+    inputs = [str(path) for path in ([inputs] if isinstance(inputs, (str, os.PathLike)) else inputs)]
+    frames = find_frames(inputs, frame_range, params.max_megapixels)
+    check_output_folder(inputs, frames, output_dir, settings.normal_map)
     budget.check_stroke_sizes(params, frames.height, frames.width)
     budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory)
     try:

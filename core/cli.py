@@ -308,13 +308,15 @@ def farm_from_args(args: argparse.Namespace):
 
 
 def run_sequence(args: argparse.Namespace, progress) -> None:
-    """The ``sequence`` subcommand: frames found and checked from their headers before any painting."""
+    """The ``sequence`` subcommand: the parameters checked for a shot (``Params.validate_shot``), the frames found and
+    checked from their names and headers, before any painting."""
     from .api import paint_sequence_files
     from .heap import reused_heap
 
+    params = params_from_args(args).validate_shot()
     settings = SequenceSettings(args.fade_frames, args.normal_map).validate()
     with reused_heap():
-        paint_sequence_files(args.input, args.output, params_from_args(args), settings, args.frames, progress=progress,
+        paint_sequence_files(args.input, args.output, params, settings, args.frames, progress=progress,
                              max_memory=max_memory(args), farm=farm_from_args(args))
 
 

@@ -17,6 +17,10 @@ from .errors import ParameterError
 CANVAS_COLOUR = (0.93, 0.90, 0.84)
 
 METHODS = ("huang11", "hertzmann98")
+METHOD_TITLES = {"huang11": "Huang 2011", "hertzmann98": "Hertzmann 1998"}
+"""Each method's name as the Blender panel shows it."""
+SHOT_METHOD = "huang11"
+"""The method a shot is painted with: the paper's; its strokes are the ones carried from frame to frame."""
 STYLE_NAMES = ("impressionist", "expressionist", "colorist_wash", "pointillist")
 LAYOUTS = ("paper", "hertzmann98")
 RENDERERS = ("bristles", "lines")
@@ -230,6 +234,19 @@ class Params:
         need(0 < self.max_megapixels <= 2000, "The pixel limit must be positive and at most 2000 megapixels.")
         need(isinstance(self.seed, int) and not isinstance(self.seed, bool) and 0 <= self.seed < SEED_LIMIT,
              f"The seed must be a whole number from 0 to 2^63 - 1, got {_short(self.seed)}.")
+        return self
+
+    def validate_shot(self) -> "Params":
+        """``validate()``, and ParameterError (one sentence) unless these parameters can paint a shot: the paper's
+        method (``SHOT_METHOD``) and layout, whose strokes a shot carries from frame to frame; return self."""
+        self.validate()
+        if self.method != SHOT_METHOD:
+            raise ParameterError(f"Shots are painted with the paper's method ({METHOD_TITLES[SHOT_METHOD]}, "
+                                 f"{SHOT_METHOD}); {METHOD_TITLES[self.method]} ({self.method}) paints still images "
+                                 f"only.")
+        if self.layout != "paper":
+            raise ParameterError(f"Shots are painted with the paper's layout; the layout {self.layout} paints "
+                                 f"still images only.")
         return self
 
 

@@ -72,7 +72,8 @@ class ShotJob:
 
 def prepare(context):
     """Check the chosen source, settings and folder; return an ShotJob. ValueError or
-    core.PaintReliefError (one sentence each) when something is missing or wrong. Renders nothing yet."""
+    core.PaintReliefError (one sentence each) when something is missing or wrong (the Paint panel's method is
+    Hertzmann 1998: shots are painted with the paper's method). Renders nothing yet."""
     from ... import core
 
     missing = dependencies.problem()
@@ -83,7 +84,7 @@ def prepare(context):
     if jobs.is_running(scene):
         raise ValueError("A painting is already running in scene {}: wait for it to finish or press Esc to "
                          "cancel it.".format(scene.name))
-    params = params_from_settings(settings).validate()
+    params = params_from_settings(settings).validate_shot()  # the paper's method: Hertzmann 1998 paints stills
     sequence_settings = core.SequenceSettings(fade_frames=int(settings.animation_fade_frames)).validate()
     view_layer = context.view_layer
     scene_source = settings.animation_source == "SCENE"

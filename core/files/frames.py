@@ -4,9 +4,11 @@ A sequence is given as one folder (its PNG, JPEG, TIFF and EXR files), one
 pattern whose run of ``#`` stands for the zero-padded frame number
 (``render/frame_####.png``, as Blender writes), or files listed in order.
 ``find_frames`` finds them, selects ``--frames A-B`` and checks them from
-their headers before any painting: each refusal is an ``InputError`` (or a
-``ParameterError`` for ``--frames``) whose one sentence names the frame file
-and the problem. A frame's picture is read with ``reading.read_image`` (a
+their names and headers before any painting (frame numbers from 0 to
+``MAX_FRAME``, running up by 1, one size): each refusal is an ``InputError``
+(or a ``ParameterError`` for ``--frames``) whose one sentence names the frame
+file and the problem. ``check_output_folder`` refuses an output folder whose
+painted frames would be read, or written over, as frames. A frame's picture is read with ``reading.read_image`` (a
 Blender multilayer EXR's Combined pass); its Blender motion with
 ``read_vector_pass``.
 """
@@ -24,13 +26,17 @@ import numpy as np
 from ..errors import InputError, ParameterError, plain_cause
 from . import reading
 from .image_files import PathLike
-from .shot_files import is_pattern, pattern_parts
+from .shot_files import frame_file_names, is_pattern, pattern_parts
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr")
 """The file name endings (any case) of a folder's frames."""
 
 VECTOR_PASS = ("Vector", "XYZW")
 """Blender's motion pass in a multilayer EXR and its channels."""
+
+MAX_FRAME = 1_048_574
+"""The highest frame number: Blender's last frame (its frame range is 0 to 1,048,574), so a painted shot is shown
+in Blender frame for frame; strokes.lives stores frame numbers as 64-bit integers, which hold it."""
 
 _DIGITS = re.compile(r"\d+")
 _RANGE = re.compile(r"(\d*)-(\d*)|(\d+)")
@@ -52,13 +58,15 @@ def find_frames(inputs: Sequence[str], frame_range: Optional[str] = None,
     """The frames named by the command line's ``inputs``, those of ``frame_range`` (``--frames``) only, checked.
 
     ``inputs``: one folder, one ``#`` pattern, or files in order
-    (``frame_files``). Numbers, selection and order are checked before any
-    header is read, then every selected frame's header (``check_headers``).
+    (``frame_files``). Numbers (``check_range``, ``check_numbers``),
+    selection and order are checked before any header is read, then every
+    selected frame's header (``check_headers``).
     Reads no pixel and writes nothing.
     """
     paths, numbers, named = frame_files(inputs)
     paths, numbers = select_frames(paths, numbers, frame_range)
     if named:
+        check_range(paths, numbers)
         check_numbers(paths, numbers)
     width, height = check_headers(paths, max_megapixels)
     return Frames(tuple(paths), tuple(numbers), width, height)
@@ -174,12 +182,15 @@ def parse_frame_range(text: str) -> Tuple[Optional[int], Optional[int]]:
     """``--frames`` text -> (first, last) frame number, inclusive; None for an open end.
 
     'A-B', 'A-' (A to the end), '-B' (the start to B) or 'A' (frame A
-    alone), A and B non-negative whole numbers, A at most B. ParameterError
-    naming the option otherwise.
+    alone), A and B whole numbers from 0 to ``MAX_FRAME``, A at most B.
+    ParameterError naming the option otherwise.
     """
     match = _RANGE.fullmatch(text.strip())
     if match is None or match.group(0) == "-":
-        raise ParameterError(f"The option --frames must be A-B, A-, -B or a single frame number A, got {text!r}.")
+        raise ParameterError(f"The option --frames must be A-B, A-, -B or a single frame number A, got "
+                             f"{_short(text)!r}.")
+    if any(len(digits) > len(str(MAX_FRAME)) or int(digits) > MAX_FRAME for digits in match.groups() if digits):
+        raise ParameterError(f"The option --frames takes frame numbers from 0 to {MAX_FRAME}, got {_short(text)!r}.")
     if match.group(3) is not None:
         return int(match.group(3)), int(match.group(3))
     first = int(match.group(1)) if match.group(1) else None
@@ -204,6 +215,19 @@ def select_frames(paths: List[pathlib.Path], numbers: List[int],
         raise ParameterError(f"The option --frames {frame_range} selects no frame: the frames are numbered "
                              f"{min(numbers)} to {max(numbers)}.")
     return [path for path, _ in kept], [number for _, number in kept]
+
+
+def _short(text: str) -> str:
+    """``text`` cut to its first 40 characters, with '...' when it is longer."""
+    return text if len(text) <= 40 else text[:40] + "..."
+
+
+def check_range(paths: Sequence[pathlib.Path], numbers: Sequence[int]) -> None:
+    """Refuse a frame numbered from its name above ``MAX_FRAME``: InputError naming the file and its number."""
+    for path, number in zip(paths, numbers, strict=True):
+        if number > MAX_FRAME:
+            raise InputError(f"The frame {path} is numbered {_short(str(number))} by its name, above {MAX_FRAME}, "
+                             f"the last frame Blender can hold: number the frames from 0 to {MAX_FRAME}.")
 
 
 def check_numbers(paths: Sequence[pathlib.Path], numbers: Sequence[int]) -> None:
@@ -243,6 +267,28 @@ def check_headers(paths: Sequence[pathlib.Path], max_megapixels: float = float("
             raise InputError(f"The frame {path} is {w} x {h} pixels but the first frame {paths[0]} is "
                              f"{width} x {height}: every frame must have the same size.")
     return width, height
+
+
+def check_output_folder(inputs: Sequence[str], found: Frames, output_dir, normal_map: bool = False) -> None:
+    """Refuse to paint the frames ``found`` from ``inputs`` into ``output_dir`` when the shot's own files would be
+    read, or written over, as frames; before anything is written.
+
+    InputError naming both when ``output_dir`` is the folder given as the one
+    input (the painted frames would be frames of the next run), or when a
+    frame file sits in ``output_dir`` under the name of a file the shot
+    writes there (``shot_files.frame_file_names``). A pattern's or listed
+    files' folder may be the output folder otherwise
+    (``render/frame_####.png`` into ``render``), and a folder inside the
+    frames' folder may be (a folder's subfolders are not read).
+    """
+    output = os.path.realpath(output_dir)
+    if len(inputs) == 1 and os.path.isdir(inputs[0]) and os.path.realpath(inputs[0]) == output:
+        raise InputError(f"The output folder {output_dir} is the folder of frames {inputs[0]}: the painted frames "
+                         f"would be read as frames, so paint into another folder.")
+    for path, number in zip(found.paths, found.numbers, strict=True):
+        if os.path.realpath(path.parent) == output and path.name in frame_file_names(number, normal_map):
+            raise InputError(f"The frame {path} would be written over by the shot's own {path.name} in the output "
+                             f"folder {output_dir}: paint into another folder.")
 
 
 def read_vector_pass(path: PathLike) -> Optional[np.ndarray]:
