@@ -229,9 +229,6 @@ def test_a_vector_pass_of_values_no_motion_can_have_leaves_the_frame_quietly(tmp
     assert report["frames"] == [1, 2, 3] and report["motion"] == "vector pass"
 
 
-
-@pytest.mark.xfail(strict=True, reason="core/sequence/shot.py sequence_figures averages the figures read back from "
-                                       "report.json with np.nanmean, which takes no null and warns on no value")
 def test_a_shot_whose_every_pixel_leaves_the_frame_goes_on_quietly(tmp_path):
     """Every pixel leaves the frame: no pair has a warping error (null in report.json); a run stopped after two
     frames goes on to the third without a warning, to the bytes of the shot painted at once."""

@@ -28,7 +28,7 @@ from typing import Callable, Dict, List, Optional, Set
 
 import numpy as np
 
-from ..errors import Cancelled, OutputError, ParameterError, plain_cause
+from ..errors import Cancelled, OutputError, plain_cause
 from ..files.frames import Frames
 from ..files.lives import LIVES_FILE, append_frame, cut_lives
 from ..files.shot_files import REPORT_FILE, frame_file_names, is_shot_report, read_report
@@ -78,11 +78,8 @@ def paint_sequence(frames: Frames, output_dir, params: Params, settings: Optiona
     them (``Run.paint_from``), with the same bytes.
     """
     settings = settings or SequenceSettings()
-    params.validate()
+    params.validate_shot()
     settings.validate()
-    if params.layout != "paper":
-        raise ParameterError(f"A sequence is painted with the paper's layout; the layout {params.layout} paints "
-                             f"still images only.")
     run = Run(frames, shot_settings(frames, params, settings))
     repaired = None
     with output_folder(output_dir) as folder:
@@ -319,6 +316,13 @@ def frame_progress(progress: ProgressFn, number: int, index: int, count: int) ->
     return lambda fraction, message: progress(fraction, f"Frame {number} ({index + 1}/{count}): {message}")
 
 
+def figure_mean(values: List[Optional[float]]) -> float:
+    """The mean of the figures ``values`` that have a value (a None, as report.json's null reads back, or a NaN
+    has none); NaN when none has."""
+    numbers = np.array([np.nan if value is None else value for value in values], np.float64)
+    return float(np.nanmean(numbers)) if (~np.isnan(numbers)).any() else float("nan")
+
+
 def sequence_figures(per_frame: List[dict], frame_count: int) -> dict:
     """The sequence's figures from its frames' entries: stroke counts, seconds per stage, mean PSNR, the warping
     errors (the height's normalised to [0, 1] over the frames painted: divided by their height range squared) and
@@ -326,13 +330,12 @@ def sequence_figures(per_frame: List[dict], frame_count: int) -> dict:
     pairs = [entry for entry in per_frame if "warping_error" in entry]
     low = min(entry["height_range"][0] for entry in per_frame)
     high = max(entry["height_range"][1] for entry in per_frame)
-    mean = lambda values: float(np.nanmean(values)) if len(values) else float("nan")  # noqa: E731
-    footage = mean([p["warping_error"]["footage"] for p in pairs])
-    painting = mean([p["warping_error"]["painting"] for p in pairs])
-    height = mean([p["warping_error"]["height_raw"] for p in pairs]) / max(high - low, 1e-12) ** 2
+    footage = figure_mean([p["warping_error"]["footage"] for p in pairs])
+    painting = figure_mean([p["warping_error"]["painting"] for p in pairs])
+    height = figure_mean([p["warping_error"]["height_raw"] for p in pairs]) / max(high - low, 1e-12) ** 2
     still = [p for p in pairs if p["still_pixels"]]
-    still_footage = mean([p["stillness"]["footage"] for p in still])
-    still_painting = mean([p["stillness"]["painting"] for p in still])
+    still_footage = figure_mean([p["stillness"]["footage"] for p in still])
+    still_painting = figure_mean([p["stillness"]["painting"] for p in still])
     seconds: Dict[str, float] = {}
     for entry in per_frame:
         for name, value in entry["seconds"].items():
@@ -340,7 +343,7 @@ def sequence_figures(per_frame: List[dict], frame_count: int) -> dict:
     return {"complete": len(per_frame) >= frame_count,
             "strokes": {"alive": [e["alive"] for e in per_frame], "born": [e["born"] for e in per_frame],
                         "died": [e["died"] for e in per_frame]},
-            "seconds": seconds, "psnr": mean([e["psnr"] for e in per_frame]),
+            "seconds": seconds, "psnr": figure_mean([e["psnr"] for e in per_frame]),
             "warping_error": {"footage": footage, "painting": painting, "height": height,
                               "painting_ratio": painting / footage if footage else float("nan")},
             "stillness": {"footage": still_footage, "painting": still_painting,
