@@ -77,7 +77,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
 
 def paint_sequence_files(inputs, output_dir, params: Params, settings=None, frame_range: Optional[str] = None,
                          progress: ProgressFn = None, cancel: CancelFn = None, max_memory: Optional[int] = None,
-                         farm=None) -> dict:
+                         farm=None, notice: Optional[Callable[[str], None]] = None) -> dict:
     """Paint the image sequence named by ``inputs`` into ``output_dir`` with strokes that live across frames;
     return the sequence's report (``core.sequence.shot.paint_sequence``).
 
@@ -90,7 +90,8 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
     sentence). Every frame is committed whole; stopped anywhere (an error, a signal,
     ``cancel``), the folder keeps complete frames only and the same call goes on after the last of them.
     farm: a ``core.farm.cluster.Farm`` (local workers or a scheduler's address) to paint the frames on a Dask
-    cluster, with the same bytes; None paints in this process and imports no Dask.
+    cluster, with the same bytes; None paints in this process and imports no Dask. notice(sentence) hears what a
+    resume repaired in the folder (``sequence.shot.paint_sequence``).
     """
     from .files.frames import check_output_folder, find_frames
     from .sequence.shot import paint_sequence
@@ -104,13 +105,14 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
     budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory)
     try:
         if farm is None:
-            return paint_sequence(frames, output_dir, params, settings, progress=progress, cancel=cancel)
+            return paint_sequence(frames, output_dir, params, settings, progress=progress, cancel=cancel,
+                                  notice=notice)
         from .farm.cluster import connected
         from .farm.sequence import ClusterFrames
 
         with connected(farm) as client:
             return paint_sequence(frames, output_dir, params, settings, progress=progress, cancel=cancel,
-                                  frames_painter=ClusterFrames(client))
+                                  frames_painter=ClusterFrames(client), notice=notice)
     except MemoryError:
         raise out_of_memory(frames.paths[0]) from None
 

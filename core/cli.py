@@ -317,7 +317,8 @@ def run_sequence(args: argparse.Namespace, progress) -> None:
     settings = SequenceSettings(args.fade_frames, args.normal_map).validate()
     with reused_heap():
         paint_sequence_files(args.input, args.output, params, settings, args.frames, progress=progress,
-                             max_memory=max_memory(args), farm=farm_from_args(args))
+                             max_memory=max_memory(args), farm=farm_from_args(args),
+                             notice=lambda text: _notice(progress, text))
 
 
 def _notice(console, text: str) -> None:

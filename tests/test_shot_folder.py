@@ -82,6 +82,17 @@ def refused(shot_dir: Path, out: Path) -> str:
 
 # --- repairs -----------------------------------------------------------------------------------------------------
 
+def test_the_command_says_what_it_repaired_in_one_line_even_when_quiet(shot_dir, tmp_path):
+    out = painted_copy(shot_dir, tmp_path)
+    (out / "painting_0004.png").unlink()
+    run = subprocess.run([sys.executable, "-m", "core", "sequence", str(shot_dir / "in"), "-o", str(out), "-q",
+                          "--seed", str(SEED)], cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    lines = [line for line in run.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith(f"paint-relief: Repaired {out}: ") and "painting_0004.png" in lines[0]
+    same_shot(out, shot_dir)
+
+
 @pytest.mark.parametrize("name, damage", [("painting_0004.png", "delete"), ("height_0002.exr", "flip"),
                                           ("color_0005.exr", "shorten")])
 def test_a_committed_frames_map_deleted_or_damaged_is_painted_again_to_the_same_bytes(shot_dir, tmp_path, name,
