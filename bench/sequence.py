@@ -203,9 +203,11 @@ def mean_psnr(paintings: Sequence[Path], sources: Sequence[Path]) -> float:
                                  reading.read_image(s, max_megapixels=math.inf)) for p, s in zip(paintings, sources, strict=True))
 
 
-def ratio(value: float, of: float) -> float:
-    """value / of; NaN when ``of`` is 0 or NaN."""
-    return value / of if of and not math.isnan(of) else float("nan")
+def ratio(value: Optional[float], of: Optional[float]) -> float:
+    """value / of; NaN when either has no value (None, as report.json's null reads back, or NaN) or ``of`` is 0."""
+    if value is None or of is None or not of or math.isnan(of):
+        return float("nan")
+    return value / of
 
 
 def motions(frames: Frames, sources: Sequence[Path]) -> tuple:
@@ -485,9 +487,9 @@ def main() -> None:
               + f", other {(wall - sum(stages.values())) / n:.2f}")
         w = report["warping_error"]
         height_ratio = w.get("height_ratio", ratio(w["height"], w["footage"]))
-        print(f"sequence report.json warping error ({report['motion']}): footage {w['footage']:.3g}, painting "
-              f"{w['painting']:.3g}, height {w['height']:.3g}; painting / footage {w['painting_ratio']:.2f}, "
-              f"height / footage {height_ratio:.2f}")
+        print(f"sequence report.json warping error ({report['motion']}): footage {figure(w['footage'], 5)}, "
+              f"painting {figure(w['painting'], 5)}, height {figure(w['height'], 5)}; painting / footage "
+              f"{figure(w['painting_ratio'])}, height / footage {figure(height_ratio)}")
 
 
 if __name__ == "__main__":
