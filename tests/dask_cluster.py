@@ -21,16 +21,33 @@ class Cluster(NamedTuple):
     workers: List[subprocess.Popen]
 
 
-def environment() -> dict:
-    """The processes' environment: the painter importable from this source tree, Dask's logs quiet."""
-    return dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
+class Worker(NamedTuple):
+    """How the workers are started: under ``prefix`` (a command, e.g. ``unshare``), by the interpreter ``python``,
+    and with the painter importable (``painter``: this source tree on their path and their working folder) or
+    not (neither, as on a machine where the painter was never installed)."""
+
+    prefix: Optional[List[str]] = None
+    python: str = sys.executable
+    painter: bool = True
+
+
+PAINTER = Worker()
+"""A worker of this interpreter that imports the painter from this source tree."""
+
+
+def environment(painter: bool = True) -> dict:
+    """The processes' environment: the painter importable from this source tree (or not), Dask's logs quiet."""
+    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p and Path(p).resolve() != ROOT]
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(([str(ROOT)] if painter else []) + paths),
                 DASK_LOGGING__DISTRIBUTED="error")
 
 
 @contextlib.contextmanager
-def cluster(folder: Path, workers: int = 2, worker_prefix: Optional[List[str]] = None) -> Iterator[Cluster]:
+def cluster(folder: Path, workers: int = 2, worker_prefix: Optional[List[str]] = None,
+            worker: Worker = PAINTER) -> Iterator[Cluster]:
     """A scheduler on 127.0.0.1 and ``workers`` single-threaded workers without nannies (a worker killed stays
-    dead), its files in ``folder``; ``worker_prefix``: a command the workers run under (e.g. ``unshare``)."""
+    dead), its files in ``folder``; ``worker_prefix``: a command the workers run under (e.g. ``unshare``),
+    ``worker``: how else they are started."""
     folder.mkdir(parents=True, exist_ok=True)
     address_file = folder / "scheduler.json"
     address_file.unlink(missing_ok=True)
@@ -40,7 +57,8 @@ def cluster(folder: Path, workers: int = 2, worker_prefix: Optional[List[str]] =
         scheduler = spawn(started, [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
                                     "--port", "0", "--no-dashboard", "--scheduler-file", str(address_file)], log)
         address = wait_for_address(address_file, scheduler)
-        processes = [spawn(started, (worker_prefix or []) + worker_command(address), log) for _ in range(workers)]
+        worker = worker._replace(prefix=worker_prefix or worker.prefix)
+        processes = [spawn_worker(started, worker, address, folder, log) for _ in range(workers)]
         wait_for_workers(address, workers)
         yield Cluster(address, scheduler, processes)
     finally:
@@ -48,22 +66,35 @@ def cluster(folder: Path, workers: int = 2, worker_prefix: Optional[List[str]] =
         log.close()
 
 
-def worker_command(address: str) -> List[str]:
+def worker_command(address: str, python: str = sys.executable) -> List[str]:
     """A single-threaded ``dask worker`` of the scheduler at ``address``, without a nanny."""
-    return [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
+    return [python, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
             "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60"]
 
 
+def spawn_worker(started: List[subprocess.Popen], worker: Worker, address: str, folder: Path,
+                 log) -> subprocess.Popen:
+    """Start one worker of the scheduler at ``address`` as ``worker`` says; one without the painter works in
+    ``folder``, where no painter is."""
+    return spawn(started, (worker.prefix or []) + worker_command(address, worker.python), log,
+                 cwd=ROOT if worker.painter else folder, painter=worker.painter)
+
+
 @contextlib.contextmanager
-def joining_worker(dask: Cluster, folder: Path, worker_prefix: Optional[List[str]] = None) -> Iterator[object]:
-    """A function that starts one more worker of ``dask`` (under ``worker_prefix``) and waits until it has
-    joined; the worker is stopped after the body."""
+def joining_worker(dask: Cluster, folder: Path, worker_prefix: Optional[List[str]] = None,
+                   worker: Worker = PAINTER) -> Iterator[object]:
+    """A function that starts one more worker of ``dask`` (under ``worker_prefix``, as ``worker`` says), waits
+    until it has joined unless told not to (``join(wait=False)``), and returns its process; the worker is stopped
+    after the body."""
     started: List[subprocess.Popen] = []
     log = open(folder / "joining.log", "ab")
 
-    def join() -> None:
-        spawn(started, (worker_prefix or []) + worker_command(dask.address), log)
-        wait_for_workers(dask.address, len(dask.workers) + 1)
+    def join(wait: bool = True) -> subprocess.Popen:
+        process = spawn_worker(started, worker._replace(prefix=worker_prefix or worker.prefix), dask.address,
+                               folder, log)
+        if wait:
+            wait_for_workers(dask.address, len(dask.workers) + 1)
+        return process
 
     try:
         yield join
@@ -85,8 +116,9 @@ def stop(started: List[subprocess.Popen]) -> None:
             process.wait()
 
 
-def spawn(started: List[subprocess.Popen], command: List[str], log) -> subprocess.Popen:
-    process = subprocess.Popen(command, cwd=ROOT, env=environment(), stdout=log, stderr=subprocess.STDOUT)
+def spawn(started: List[subprocess.Popen], command: List[str], log, cwd: Path = ROOT,
+          painter: bool = True) -> subprocess.Popen:
+    process = subprocess.Popen(command, cwd=cwd, env=environment(painter), stdout=log, stderr=subprocess.STDOUT)
     started.append(process)
     return process
 

@@ -3,17 +3,19 @@ same bytes as one process through lost workers, a lost scheduler and resumed run
 be reached or seen."""
 
 import errno
+import os
 import re
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
 
 pytest.importorskip("distributed")
 
-from dask_cluster import cluster, joining_worker  # noqa: E402
+from dask_cluster import ROOT, Worker, cluster, joining_worker  # noqa: E402
 from oracles import folder_bytes, one_sentence, one_sentence_run  # noqa: E402
 from tiny_shot import shot  # noqa: E402
 
@@ -117,10 +119,94 @@ def test_local_workers_and_a_run_resumed_on_them_give_the_bytes_of_one_process(t
 def test_an_unreachable_scheduler_is_one_sentence_naming_it_and_nothing_is_written(tmp_path, footage):
     frames, _ = footage
     address = "tcp://127.0.0.1:9"     # the discard port: nothing listens there
+    start = time.monotonic()
     result = subprocess.run([sys.executable, "-m", "core", "sequence", str(frames), "-o", str(tmp_path / "out"),
                              "--scheduler", address, "-q"], capture_output=True, text=True, timeout=120,
                             cwd=Path(__file__).resolve().parents[1])
-    assert address in one_sentence_run(result)
+    seconds = time.monotonic() - start
+    message = one_sentence_run(result)
+    assert result.returncode == 2 and address in message and "refused the connection" in message
+    assert seconds < 8, seconds       # against Dask's 10 s of retrying a refused connection
+    assert not (tmp_path / "out").exists()
+
+
+def painter_importable_without_this_tree(folder: Path) -> bool:
+    """Whether this interpreter imports the painter from ``folder`` without this source tree on its path (an
+    installed painter): then no worker here can lack it."""
+    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p and Path(p).resolve() != ROOT]
+    return subprocess.run([sys.executable, "-c", "import core.version"], cwd=folder, capture_output=True,
+                          env=dict(os.environ, PYTHONPATH=os.pathsep.join(paths)), timeout=60).returncode == 0
+
+
+def test_a_worker_that_cannot_import_the_painter_is_named_before_anything_is_painted(tmp_path, footage):
+    if painter_importable_without_this_tree(tmp_path):
+        pytest.skip("the painter is installed in this interpreter, so every worker imports it")
+    frames, _ = footage
+    with cluster(tmp_path / "cluster", workers=1, worker=Worker(painter=False)) as dask:
+        start = time.monotonic()
+        result = subprocess.run([sys.executable, "-m", "core", "sequence", str(frames), "-o", str(tmp_path / "out"),
+                                 "--scheduler", dask.address, "-q"], capture_output=True, text=True, timeout=120,
+                                cwd=ROOT)
+        seconds = time.monotonic() - start
+    message = one_sentence_run(result)
+    assert result.returncode == 2 and seconds < 30, seconds
+    assert re.fullmatch(r"paint-relief: error: The Dask worker tcp://127\.0\.0\.1:\d+ on \S+ cannot import the "
+                        r"painter \(No module named 'core'\): install it on every worker \(pip install "
+                        r"\"\.\[farm\]\" from this checkout\)\.", message), message
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_worker_that_joins_midway_without_the_painter_never_joins_and_the_shot_is_the_same_bytes(tmp_path,
+                                                                                                footage):
+    """Once the painter's worker plugin is sent, Dask turns away a worker that cannot import it: the worker stops
+    at its start (its own log says why) and never takes a piece."""
+    if painter_importable_without_this_tree(tmp_path):
+        pytest.skip("the painter is installed in this interpreter, so every worker imports it")
+    frames, alone = footage
+    with cluster(tmp_path / "cluster", workers=1) as dask, \
+            joining_worker(dask, tmp_path, worker=Worker(painter=False)) as join:
+        turned_away = []
+        report = paint_sequence_files([frames], tmp_path / "out", Params(**PARAMS),
+                                      progress=once_done(2, lambda: turned_away.append(join(wait=False).wait(60)),
+                                                         []),
+                                      farm=Farm(scheduler=dask.address))
+    assert turned_away and turned_away[0] != 0
+    assert "No module named 'core'" in (tmp_path / "joining.log").read_text()
+    assert report["complete"] and folder_bytes(tmp_path / "out") == alone
+
+
+OLDEST_NUMPY = ROOT / ".venv-numpy1" / "bin" / "python"
+"""An interpreter with the oldest NumPy and SciPy the painter supports (requirements-numpy1.txt) and Dask."""
+
+
+def other_interpreter_versions() -> dict:
+    """{"NumPy": ..., "SciPy": ...} of OLDEST_NUMPY when it runs Dask distributed too, else {}."""
+    if not OLDEST_NUMPY.exists():
+        return {}
+    result = subprocess.run([str(OLDEST_NUMPY), "-c", "import distributed, numpy, scipy; "
+                             "print(numpy.__version__, scipy.__version__)"], capture_output=True, text=True,
+                            timeout=120)
+    return dict(zip(["NumPy", "SciPy"], result.stdout.split(), strict=False)) if result.returncode == 0 else {}
+
+
+def test_a_worker_with_other_numpy_and_scipy_versions_is_named_before_anything_is_painted(tmp_path, footage):
+    import numpy
+    import scipy
+
+    theirs = other_interpreter_versions()
+    if not theirs or (theirs["NumPy"], theirs["SciPy"]) == (numpy.__version__, scipy.__version__):
+        pytest.skip(f"needs {OLDEST_NUMPY} with Dask distributed and another NumPy and SciPy than this one")
+    frames, _ = footage
+    with cluster(tmp_path / "cluster", workers=1, worker=Worker(python=str(OLDEST_NUMPY))) as dask:
+        with pytest.raises(FarmError) as refused:
+            paint_sequence_files([frames], tmp_path / "out", Params(**PARAMS), farm=Farm(scheduler=dask.address))
+    message = one_sentence(str(refused.value))
+    assert re.fullmatch(
+        rf"The Dask worker tcp://127\.0\.0\.1:\d+ on \S+ runs NumPy {re.escape(theirs['NumPy'])} and SciPy "
+        rf"{re.escape(theirs['SciPy'])} but this command runs NumPy {re.escape(numpy.__version__)} and SciPy "
+        rf"{re.escape(scipy.__version__)}: install the same versions on every worker \(pip install \"\.\[farm\]\" "
+        rf"numpy=={re.escape(numpy.__version__)} scipy=={re.escape(scipy.__version__)} from this checkout\)\.",
+        message), message
     assert not (tmp_path / "out").exists()
 
 
@@ -232,3 +318,28 @@ def test_a_piece_that_fails_with_an_os_error_is_named_and_not_taken_for_a_lost_s
                         r"no space is left on the device \(/shared/out/\.staging-1/height_0011\.exr\)\.",
                         str(failed.value)), str(failed.value)
     assert not list((tmp_path / "out").glob("painting_*"))
+
+
+@pytest.mark.parametrize("painting", ["sequence", "batch"])
+def test_a_worker_that_joins_midway_with_other_numpy_and_scipy_versions_is_named_before_it_paints(
+        tmp_path, footage, painting):
+    import numpy
+
+    theirs = other_interpreter_versions()
+    if not theirs or theirs["NumPy"] == numpy.__version__:
+        pytest.skip(f"needs {OLDEST_NUMPY} with Dask distributed and another NumPy than this one")
+    frames, _ = footage
+    with cluster(tmp_path / "cluster", workers=1) as dask, \
+            joining_worker(dask, tmp_path, worker=Worker(python=str(OLDEST_NUMPY))) as join:
+        joined, farm = [], Farm(scheduler=dask.address)
+        with pytest.raises(FarmError) as refused:
+            if painting == "sequence":
+                paint_sequence_files([frames], tmp_path / "out", Params(**PARAMS),
+                                     progress=once_done(2, join, joined), farm=farm)
+            else:
+                paint_batch(sorted(map(str, frames.iterdir())), tmp_path / "out", Params(**PARAMS),
+                            progress=once_done(1, join, joined), farm=farm)
+    message = one_sentence(str(refused.value))
+    assert joined and "tcp://127.0.0.1:" in message and f"runs NumPy {theirs['NumPy']}" in message
+    if painting == "sequence":
+        assert 2 <= len(list((tmp_path / "out").glob("painting_*.png"))) < FRAMES

@@ -9,6 +9,8 @@ worker's threads, not the painter's own thread pool, spread the work
 
 from __future__ import annotations
 
+import asyncio
+import concurrent.futures
 import contextlib
 import importlib.util
 import logging
@@ -21,9 +23,12 @@ from typing import Iterator, List, NamedTuple, Optional
 
 from ..errors import OutputError, PaintReliefError, ParameterError, plain_cause
 from ..files.staging import PROBE_PREFIX
+from . import address as addresses
+from . import software
 
 CONNECT_SECONDS = 10
-"""Seconds to reach a scheduler, and to wait for its first worker, before giving up."""
+"""Seconds to reach a scheduler, to hear it answer as a Dask scheduler, and to wait for its first worker, before
+giving up."""
 
 
 class FarmError(PaintReliefError):
@@ -37,11 +42,14 @@ class Farm(NamedTuple):
     scheduler: Optional[str] = None
 
     def validate(self) -> None:
-        """ParameterError (one sentence) for no place, both places, or fewer than one worker."""
+        """ParameterError (one sentence) for no place, both places, fewer than one worker, or a scheduler's
+        address that is not tcp://HOST:PORT (``address.parse``)."""
         if (self.workers is None) == (self.scheduler is None):
             raise ParameterError("Give either a number of local workers or a scheduler's address, not both.")
         if self.workers is not None and self.workers < 1:
             raise ParameterError(f"The number of workers must be at least 1, not {self.workers}.")
+        if self.scheduler is not None:
+            addresses.parse(self.scheduler)
 
 
 def import_distributed():
@@ -59,7 +67,9 @@ def connected(farm: Farm) -> Iterator[object]:
     """A ``distributed.Client`` of ``farm`` for the body, closed after it (a local cluster is shut down).
 
     FarmError (one sentence naming the address) when the scheduler cannot be reached or has no worker within
-    CONNECT_SECONDS. Dask's own log lines are silenced: progress and errors are the caller's to tell, in its words.
+    CONNECT_SECONDS, and (naming the worker) when a worker runs other software than this process
+    (``check_software``), before the painter's worker plugin is sent. Dask's own log lines are silenced: progress
+    and errors are the caller's to tell, in its words.
     """
     farm.validate()
     distributed = import_distributed()
@@ -72,9 +82,14 @@ def connected(farm: Farm) -> Iterator[object]:
             client = stack.enter_context(distributed.Client(cluster, set_as_default=False))
         else:
             client = stack.enter_context(reach(distributed, farm.scheduler))
+        check_software(client, list(client.nthreads()))
         from .plugin import PainterWorker
 
-        client.register_plugin(PainterWorker(), name="paint-relief-painter")
+        try:
+            client.register_plugin(PainterWorker(), name="paint-relief-painter")
+        except Exception:
+            check_software(client, list(client.nthreads()))     # a worker without the painter that just joined
+            raise
         yield client
 
 
@@ -86,20 +101,49 @@ def quiet_logs() -> None:
 
 
 @contextlib.contextmanager
-def reach(distributed, address: str) -> Iterator[object]:
-    """A client of the scheduler at ``address`` that has at least one worker; FarmError naming it otherwise."""
+def reach(distributed, text: str) -> Iterator[object]:
+    """A client of the scheduler at ``text`` that has at least one worker; FarmError naming it otherwise.
+
+    The address is read (``address.parse``) and knocked at (``address.knock``) first, then greeted as Dask greets
+    (``greet``), each within CONNECT_SECONDS: Dask's client would retry a refused connection for its whole timeout,
+    and wait without end on a port where a server that is not a Dask scheduler listens."""
+    problem = addresses.knock(text, addresses.parse(text), CONNECT_SECONDS)
+    if problem:
+        raise FarmError(problem)
+    greet(distributed, text)
     try:
-        client = distributed.Client(address, timeout=f"{CONNECT_SECONDS}s", set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise FarmError(f"Cannot reach the Dask scheduler at {address} ({plain(exc)}); check the address and that "
+        with warnings.catch_warnings():
+            # Dask's own table of differing versions: what matters to the bytes is check_software's to tell
+            warnings.simplefilter("ignore", distributed.versions.VersionMismatchWarning)
+            client = distributed.Client(text, timeout=f"{CONNECT_SECONDS}s", set_as_default=False)
+    except (OSError, TimeoutError, ValueError, ImportError) as exc:
+        raise FarmError(f"Cannot reach the Dask scheduler at {text} ({plain(exc)}); check the address and that "
                         f"`dask scheduler` runs there.") from None
     with client:
         try:
             client.wait_for_workers(1, timeout=CONNECT_SECONDS)
         except (OSError, TimeoutError) as exc:
-            raise FarmError(f"The Dask scheduler at {address} has no worker ({plain(exc)}); start `dask worker "
-                            f"{address}` on the machines that paint.") from None
+            raise FarmError(f"The Dask scheduler at {text} has no worker ({plain(exc)}); start `dask worker "
+                            f"{text}` on the machines that paint.") from None
         yield client
+
+
+def greet(distributed, text: str) -> None:
+    """Open a Dask connection to ``text`` and close it once the scheduler has answered Dask's greeting; FarmError
+    when what listens there does not answer as a Dask scheduler within CONNECT_SECONDS. On a thread of its own,
+    so that a caller's own event loop is no matter."""
+    async def hello() -> None:
+        comm = await distributed.comm.connect(text, timeout=CONNECT_SECONDS)
+        await comm.close()
+
+    with concurrent.futures.ThreadPoolExecutor(1) as thread:
+        try:
+            thread.submit(asyncio.run, asyncio.wait_for(hello(), CONNECT_SECONDS)).result()
+        except Exception as exc:  # whatever the first words were, they were not a Dask scheduler's
+            how = f" within {CONNECT_SECONDS} s" if isinstance(exc, TimeoutError) else ""
+            raise FarmError(f"What listens at {text} does not answer as a Dask scheduler{how}: check the address "
+                            f"(a scheduler listens on port 8786 unless told another, its dashboard on 8787).") \
+                from None
 
 
 def plain(exc: BaseException) -> str:
@@ -126,9 +170,13 @@ def bokeh_installed() -> bool:
 def raise_error(future, what: str) -> None:
     """Raise the error of ``future``, a task that is done and did not finish: an OSError the task raised itself as
     a FarmError, "A Dask worker failed WHAT: the reason." (not to be taken for a lost scheduler, whose
-    connection errors are OSErrors too), any other error of the task as it is, CancelledError when the cluster
-    is lost."""
+    connection errors are OSErrors too), an ImportError (a worker that joined without the painter and was sent
+    a task before it was checked) as a FarmError saying what to install, any other error of the task as it is,
+    CancelledError when the cluster is lost."""
     error = future.exception() if future.status == "error" else None
+    if isinstance(error, ImportError):
+        raise FarmError(f"A Dask worker failed {what}: it cannot import the painter ({plain(error)}); install it on "
+                        f"every worker ({software.INSTALL} from this checkout).")
     if isinstance(error, OSError):
         where = f" ({error.filename})" if error.filename else ""
         raise FarmError(f"A Dask worker failed {what}: {plain_cause(error)}{where}.")
@@ -151,11 +199,25 @@ def check_paths(client, readable: List[Path], writable: List[Path], workers: Lis
                               f"output folders at the same paths.")
 
 
+def check_software(client, workers: List[str]) -> None:
+    """FarmError (one sentence naming the worker, what differs and what to install) when one of ``workers``
+    (addresses) cannot import the painter or runs another version of it, NumPy, SciPy or OpenImageIO than this
+    process (``software.difference``). ``software.installed`` travels as source text for the built-in ``eval``
+    (``software.on_worker``), so it runs on a worker that cannot import the painter."""
+    ours = software.installed(software.PACKAGES)
+    theirs = client.run(eval, software.on_worker(software.installed, software.PACKAGES), {}, workers=workers)
+    for worker, found in sorted(theirs.items()):
+        problem = software.difference(worker, found, ours)
+        if problem:
+            raise FarmError(problem)
+
+
 def check_new_workers(client, workers, checked: set, readable: List[Path], writable: List[Path]) -> None:
-    """``check_paths`` on those of ``workers`` (addresses) not in ``checked`` yet, then add them to it: each worker
-    is checked once, whether it was there at the start or joined later."""
+    """``check_software`` then ``check_paths`` on those of ``workers`` (addresses) not in ``checked`` yet, then add
+    them to it: each worker is checked once, whether it was there at the start or joined later."""
     new = sorted(set(workers) - checked)
     if new:
+        check_software(client, new)
         check_paths(client, readable, writable, new)
         checked.update(new)
 
