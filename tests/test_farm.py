@@ -240,6 +240,16 @@ def test_a_worker_that_cannot_see_the_input_is_named_before_anything_is_painted(
     assert not (tmp_path / "out").exists()
 
 
+def paint_while_one_joins(painting: str, frames: Path, out: Path, join, joined: list, farm) -> None:
+    """Paint the frames of the folder ``frames`` into ``out`` on ``farm`` as a shot (``painting`` "sequence") or a
+    batch of stills, calling ``join`` (a worker joins) once two frames or one still are done."""
+    if painting == "sequence":
+        paint_sequence_files([frames], out, Params(**PARAMS), progress=once_done(2, join, joined), farm=farm)
+    else:
+        paint_batch(sorted(map(str, frames.iterdir())), out, Params(**PARAMS), progress=once_done(1, join, joined),
+                    farm=farm)
+
+
 @pytest.mark.skipif(not can_unshare(), reason="needs `unshare --mount` to hide a folder from one worker")
 @pytest.mark.parametrize("painting", ["sequence", "batch"])
 def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_paints(tmp_path, footage, painting):
@@ -247,12 +257,7 @@ def test_a_worker_that_joins_midway_and_cannot_see_the_input_is_named_before_it_
     with cluster(tmp_path / "cluster", workers=1) as dask, joining_worker(dask, tmp_path, blind) as join:
         joined, farm = [], Farm(scheduler=dask.address)
         with pytest.raises(OutputError) as refused:
-            if painting == "sequence":
-                paint_sequence_files([shared], tmp_path / "out", Params(**PARAMS),
-                                     progress=once_done(2, join, joined), farm=farm)
-            else:
-                paint_batch(sorted(map(str, shared.iterdir())), tmp_path / "out", Params(**PARAMS),
-                            progress=once_done(1, join, joined), farm=farm)
+            paint_while_one_joins(painting, shared, tmp_path / "out", join, joined, farm)
     message = str(refused.value)
     assert joined and "tcp://127.0.0.1:" in message and "cannot read" in message and str(shared) in message
     if painting == "sequence":
@@ -333,12 +338,7 @@ def test_a_worker_that_joins_midway_with_other_numpy_and_scipy_versions_is_named
             joining_worker(dask, tmp_path, worker=Worker(python=str(OLDEST_NUMPY))) as join:
         joined, farm = [], Farm(scheduler=dask.address)
         with pytest.raises(FarmError) as refused:
-            if painting == "sequence":
-                paint_sequence_files([frames], tmp_path / "out", Params(**PARAMS),
-                                     progress=once_done(2, join, joined), farm=farm)
-            else:
-                paint_batch(sorted(map(str, frames.iterdir())), tmp_path / "out", Params(**PARAMS),
-                            progress=once_done(1, join, joined), farm=farm)
+            paint_while_one_joins(painting, frames, tmp_path / "out", join, joined, farm)
     message = one_sentence(str(refused.value))
     assert joined and "tcp://127.0.0.1:" in message and f"runs NumPy {theirs['NumPy']}" in message
     if painting == "sequence":
