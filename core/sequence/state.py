@@ -11,6 +11,7 @@ no pickling), so a resumed run continues with the same bytes.
 from __future__ import annotations
 
 import dataclasses
+import io
 import zipfile
 import zlib
 from pathlib import Path
@@ -46,8 +47,10 @@ def save_state(path: Path, frame: PaintedFrame, index: int, lives_bytes: int) ->
     arrays.update(error=frame.error, fresh=frame.fresh, opacity=frame.opacity,
                   counters=np.array([index, lives_bytes, frame.next_ident, living.fade_frames, frame.born,
                                      frame.died], np.int64))
+    archive = io.BytesIO()  # made whole in memory, so a full disk fails the plain write below and nothing else
+    np.savez(archive, **arrays)
     with open(path, "wb") as stream:
-        np.savez(stream, **arrays)
+        stream.write(archive.getbuffer())
 
 
 def load_state(path: Path) -> SavedState:
