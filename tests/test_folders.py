@@ -56,6 +56,24 @@ def test_painting_folders_skips_existing_folders(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["other_001", "photo_001", "photo_003"], "nothing is created"
 
 
+def test_a_folder_left_by_a_run_stopped_before_its_first_commit_is_free_again(tmp_path):
+    """A killed run leaves its lock file (held by no process) and a staging folder: that folder is cleared and named
+    again; one whose lock a living run holds, or that holds anything else, stays taken."""
+    from core.files import folderlock
+    from core.files.staging import STAGING_PREFIX
+
+    stopped, writing, painted = tmp_path / "photo_001", tmp_path / "photo_002", tmp_path / "photo_003"
+    for folder in (stopped, writing, painted):
+        (folder / f"{STAGING_PREFIX}1-ab").mkdir(parents=True)
+        (folder / folderlock.LOCK_NAME).write_text("99999999")
+    (painted / "painting.png").write_bytes(b"png")
+    with folderlock.acquire(writing):
+        got = folders.painting_folders(tmp_path, ["photo.png", "photo.png"])
+    assert got == [str(stopped), str(tmp_path / "photo_004")]
+    assert os.listdir(stopped) == [] and sorted(os.listdir(painted)) == sorted(
+        [f"{STAGING_PREFIX}1-ab", folderlock.LOCK_NAME, "painting.png"])
+
+
 def test_painting_folders_are_distinct_whatever_the_case(tmp_path):
     got = folders.painting_folders(tmp_path, ["Photo.png", "photo.png", "PHOTO.PNG"])
     assert got == [str(tmp_path / n) for n in ("Photo_001", "photo_002", "PHOTO_003")]

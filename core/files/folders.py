@@ -4,7 +4,9 @@ A photograph ``My photo (1).JPG`` painted into ``parent`` gets the folder
 ``parent/My_photo_1_001``, or ``_002``, ... when that one exists already, so
 a new painting never overwrites an earlier one. Blender's Paint button and
 the command line name folders by this one rule. Nothing here touches the
-disk but to ask whether a path exists: no folder is created.
+disk but to ask whether a path exists, and to clear a folder that holds only
+what a run stopped before its first commit left (a lock file no process
+holds, staging folders): that folder is free again. No folder is created.
 
 Standard library only, and ``core.files`` loads its other modules on first
 use, so the extension can name folders without loading the painter's
@@ -14,6 +16,7 @@ libraries.
 from __future__ import annotations
 
 import os
+import pathlib
 import re
 from typing import Iterable, List
 
@@ -38,9 +41,25 @@ def _first_free(parent, stem: str, digits: int, taken) -> str:
     counter = 1
     while True:
         folder = os.path.join(parent, "{}_{:0{}d}".format(stem, counter, digits))
-        if folder.casefold() not in taken and not os.path.exists(folder):
+        if folder.casefold() not in taken and (not os.path.exists(folder) or _abandoned(folder)):
             return folder
         counter += 1
+
+
+def _abandoned(folder: str) -> bool:
+    """Whether ``folder`` held only the remains of a run stopped before it committed anything (its lock file, held
+    by no process, and staging folders); those remains are removed (``staging.settle``), leaving it empty."""
+    from .folderlock import LOCK_NAME
+    from .staging import STAGING_PREFIX, settle
+
+    try:
+        names = os.listdir(folder)
+        if not names or not all(name == LOCK_NAME or name.startswith(STAGING_PREFIX) for name in names):
+            return False
+        settle(pathlib.Path(folder))
+        return not os.listdir(folder)
+    except OSError:
+        return False
 
 
 def next_painting_folder(parent, image_path, digits: int = DIGITS) -> str:

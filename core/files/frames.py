@@ -106,7 +106,7 @@ def folder_files(folder: pathlib.Path) -> List[pathlib.Path]:
     """
     names = [name for name in _listed(folder)
              if not name.startswith(".") and name.lower().endswith(IMAGE_SUFFIXES)]
-    paths = [folder / name for name in names if (folder / name).is_file()]
+    paths = [folder / name for name in names if _frame_file(folder / name)]
     if not paths:
         raise InputError(f"The folder {folder} holds no frames: no PNG, JPEG, TIFF or EXR file.")
     return paths
@@ -128,11 +128,16 @@ def pattern_files(pattern: str) -> List[Tuple[pathlib.Path, int]]:
     found = []
     for entry in _listed(folder, pattern):
         match = name.fullmatch(entry)
-        if match and (folder / entry).is_file():
+        if match and _frame_file(folder / entry):
             found.append((folder / entry, int(match.group(1))))
     if not found:
         raise InputError(f"No file matches the frame pattern {pattern}.")
     return sorted(found, key=lambda item: (item[1], item[0].name))
+
+
+def _frame_file(path: pathlib.Path) -> bool:
+    """Whether ``path`` stands for a frame: a file, or a link to none (named by the header checks, not skipped)."""
+    return path.is_file() or (path.is_symlink() and not path.exists())
 
 
 def _listed(folder: pathlib.Path, pattern: Optional[str] = None) -> List[str]:
