@@ -77,7 +77,7 @@ pythons:
 	@$(if $(PYTHON_3.13),,echo "make: no Python 3.13 here (python3.13 on PATH or under pyenv): skipped Blender $(SHIPPED_MISSING)"; $(if $(CI),exit 1,true))
 
 # The linter first (pyproject.toml: pyflakes, import order, bugbear), then the suite.
-test-core: $(STAMP)
+test-core: $(STAMP) $(if $(PYTHON_3.11),$(NUMPY1_VENV)/.installed)
 	$(VENV)/bin/ruff check .
 	$(PY) -m pytest -q
 

@@ -775,6 +775,26 @@ def _(place):
     untouched(out, before)
 
 
+@case("output", "a narrower --frames after a complete shot")
+def _(place):
+    out = place.whole_copy(place.folder())
+    before = snapshot(out)
+    painted(sequence([place.frames], out, "--frames", "1-3"))
+    refused(sequence([place.frames], out, "--frames", "2-3"), out, "frames 1 to 5", "frames 2 to 3")
+    untouched(out, before)
+
+
+@case("damage", "the state of frame 3 and a run of frames 1-3")
+def _(place):
+    folder = place.folder()
+    out = place.whole_copy(folder)
+    painted(sequence([place.frames], folder / "part", "--frames", "1-3"))
+    shutil.copyfile(folder / "part" / STATE_FILE, out / STATE_FILE)
+    said = painted(sequence([place.frames], out, "--frames", "1-3"))
+    assert "the frames after frame 3 are dropped" in said, said
+    same_as(out, folder / "part")
+
+
 @case("output", "-o a link to a folder")
 def _(place):
     folder = place.folder()

@@ -231,7 +231,7 @@ def test_a_changed_input_frame_is_refused_by_name(tmp_path):
     paint_sequence(find_frames([str(tmp_path / "in")]), tmp_path / "out", Params(seed=1))
     write_png(tmp_path / "in" / "frame_0001.png", moved_photo((64, 80), (5, 5)), bits=16)
     line = refusal([tmp_path / "in", "-o", tmp_path / "out", "--seed", "1"])
-    assert f"holds frame 1 painted from another input than {tmp_path / 'in' / 'frame_0001.png'}" in line
+    assert f"holds frame 1 painted from another picture than {tmp_path / 'in' / 'frame_0001.png'} holds now" in line
 
 
 @pytest.mark.parametrize("options, words", [

@@ -145,6 +145,20 @@ def test_a_state_that_lags_the_report_is_rolled_back_to_and_painted_on_from(shot
     same_shot(out, shot_dir)
 
 
+def test_frames_dropped_by_a_repair_leave_no_maps_behind(shot_dir, tmp_path):
+    """The state lags at frame 3 and the run asks for frames 1-3: frames 4-5 are dropped, maps and all, and the
+    folder holds what a run of frames 1-3 never stopped holds."""
+    out, part = tmp_path / "out", tmp_path / "part"
+    paint_sequence(frames(shot_dir, "1-3"), part, Params(seed=SEED))
+    shutil.copytree(shot_dir / "whole", out)
+    shutil.copyfile(part / STATE, out / STATE)
+    (said,) = resumed(shot_dir, out, "1-3")
+    assert one_sentence(said) == (f"Repaired {out}: {STATE} was that of frame 3, not of frame 5; the frames after "
+                                  f"frame 3 are dropped.")
+    same_bytes(out, part)
+    assert plain_report(out) == plain_report(part)
+
+
 # --- refusals ----------------------------------------------------------------------------------------------------
 
 def damage_first_record(out: Path) -> None:

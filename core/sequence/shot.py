@@ -164,27 +164,44 @@ class Run:
                               f"go on with it.")
         for i, entry in enumerate(report["per_frame"][:len(self.frames.paths)]):
             path, number = self.frames.paths[i], self.frames.numbers[i]
-            if entry["frame"] != number or entry["input_sha256"] != input_digest(path):
-                raise OutputError(f"The output folder {folder} holds frame {entry['frame']} painted from another "
-                                  f"input than {path}; paint into another folder.")
+            if entry["frame"] != number:
+                held, mine = report["frames"], self.frames.numbers
+                raise OutputError(f"The output folder {folder} holds a shot of frames {held[0]} to {held[-1]}, which "
+                                  f"this run's frames {mine[0]} to {mine[-1]} do not go on from (its frame "
+                                  f"{entry['frame']} is this run's frame {number}); paint into another folder, or "
+                                  f"name the frames that shot was painted from.")
+            if entry["input_sha256"] != input_digest(path):
+                raise OutputError(f"The output folder {folder} holds frame {number} painted from another picture "
+                                  f"than {path} holds now; paint into another folder.")
         return report
 
     def repaired(self, folder, shot_folder: ShotFolder, resume: Resume, report: dict):
         """(report, sentence): the report to go on from and the one sentence of the repair of ``folder`` (None
         when nothing was repaired), with the repair ``resume`` written (``ShotFolder.repair``). The report's
-        frames beyond ``resume.keep`` are dropped; when frames remain to paint, its "input" and "frame_count"
-        become this run's."""
+        frames beyond ``resume.keep`` are dropped; when frames were dropped or remain to paint, its "input" and
+        "frame_count" become those of the frames kept and of this run's frames after them."""
         committed = len(report["per_frame"])
-        rolled = resume.keep < committed
-        if rolled:
+        dropped = report["per_frame"][resume.keep:]
+        if dropped:
             report = self.rolled_back(report, resume.keep, resume.lives_bytes)
-        if len(report["per_frame"]) < len(self.frames.paths):
-            report["input"] = [str(p) for p in self.frames.paths]
-            report["frame_count"] = len(self.frames.paths)
+        if dropped or len(report["per_frame"]) < len(self.frames.paths):
+            report["input"] = self.inputs_after(report)
+            report["frame_count"] = len(report["input"])
         if not resume.problems:
             return report, None
-        shot_folder.repair(folder, resume, report, rolled)
+        shot_folder.repair(folder, resume, report, dropped)
         return report, shot_folder.sentence(resume, committed, self.frames.numbers)
+
+    def inputs_after(self, report: dict) -> List[str]:
+        """The input frames' paths of the frames ``report`` holds, then this run's frames after them: what
+        report.json's "input" lists once this run has painted. A frame held that this run does not name keeps the
+        path ``report`` gave it."""
+        mine = dict(zip(self.frames.numbers, map(str, self.frames.paths), strict=True))
+        earlier = {Path(path).name: path for path in report["input"]}
+        held = [mine.get(number) or earlier.get(entry["input"], entry["input"])
+                for number, entry in zip(report["frames"], report["per_frame"], strict=True)]
+        last = report["frames"][-1] if report["frames"] else None
+        return held + [path for number, path in mine.items() if last is None or number > last]
 
     def rolled_back(self, report: dict, keep: int, lives_bytes: int) -> dict:
         """``report`` with its first ``keep`` frames only (a new report when ``keep`` is 0), the lives file's

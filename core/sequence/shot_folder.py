@@ -192,16 +192,21 @@ class ShotFolder:
                 return f"{path.name} was damaged (its SHA-256 is not the one report.json lists)"
         return None
 
-    def repair(self, output, resume: Resume, report: dict, rolled_back: bool) -> None:
+    def repair(self, output, resume: Resume, report: dict, dropped: List[dict]) -> None:
         """Write the repair ``resume`` plans into the locked ``output`` folder (``staging.OutputFolder``): when
-        ``rolled_back``, ``report`` (report.json with the frames kept) is committed first and, with no frame
-        kept, the state and the lives file are removed; then the lives file is cut to the frames kept."""
-        if rolled_back:
+        frames are ``dropped`` (report.json's entries of the frames not kept), ``report`` (report.json with the
+        frames kept) is committed first, then the dropped frames' maps are removed and, with no frame kept, the
+        state and the lives file; then the lives file is cut to the frames kept."""
+        if dropped:
             with output.staged() as staging:
                 write_json(staging / REPORT_FILE, report)
+            for entry in dropped:
+                for name in entry.get("files", {}):
+                    if Path(name).name == name and name not in (REPORT_FILE, LIVES_FILE, STATE_FILE):
+                        (self.folder / name).unlink(missing_ok=True)
             if resume.keep == 0:
                 self.state_path.unlink(missing_ok=True)
-        if rolled_back or resume.cut:
+        if dropped or resume.cut:
             cut_lives(self.lives_path, resume.lives_bytes if resume.keep else 0)
 
     def sentence(self, resume: Resume, committed: int, numbers: List[int]) -> str:
