@@ -287,6 +287,56 @@ def test_a_full_disk_at_any_write_of_a_frame_is_one_sentence_and_the_same_comman
     same_shot(out, shot_dir)
 
 
+def signal_at(monkeypatch, where):
+    """SIGTERM sent to this process during frame 3's commit: in its state's writing (``where`` "state", before the
+    commit point) or right after its files were renamed into place ("renamed", inside the commit's deferred
+    section, so it takes effect once the frame is committed)."""
+    import signal as signals_module
+
+    from core.files import staging
+
+    if where == "state":
+        real_save = shot.save_state
+
+        def save_state(path, frame, index, lives_bytes):
+            if index == 2:
+                os.kill(os.getpid(), signals_module.SIGTERM)
+            return real_save(path, frame, index, lives_bytes)
+        monkeypatch.setattr(shot, "save_state", save_state)
+    else:
+        real_commit, calls = staging.OutputFolder._commit, []
+
+        def commit(self, staging_folder, names):
+            real_commit(self, staging_folder, names)
+            calls.append(names)
+            if len(calls) == 3:
+                os.kill(os.getpid(), signals_module.SIGTERM)
+        monkeypatch.setattr(staging.OutputFolder, "_commit", commit)
+
+
+@pytest.mark.parametrize("where, committed", [("state", [1, 2]), ("renamed", [1, 2, 3])])
+def test_a_signal_while_a_frame_is_committed_leaves_no_record_beyond_the_frames_committed(shot_dir, tmp_path,
+                                                                                          monkeypatch, where,
+                                                                                          committed):
+    from core.files import signals
+
+    out = tmp_path / "out"
+    restore = signals.install()
+    try:
+        with monkeypatch.context() as patch:
+            signal_at(patch, where)
+            with pytest.raises(signals.Interrupted):
+                paint_sequence(frames(shot_dir), out, Params(seed=SEED))
+    finally:
+        restore()
+    report = json.loads((out / "report.json").read_text())
+    assert report["frames"] == committed
+    assert (out / LIVES).stat().st_size == report["lives"]["bytes"]
+    assert not [p for p in os.listdir(out) if p.startswith(".") and p != STATE]
+    assert resumed(shot_dir, out) == []
+    same_shot(out, shot_dir)
+
+
 @pytest.fixture
 def small_disk(tmp_path):
     """A 600 kB tmpfs at tmp_path / "disk" (skipped where mounting is not permitted); unmounted afterwards."""

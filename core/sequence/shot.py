@@ -29,6 +29,7 @@ from typing import Callable, Dict, List, Optional, Set
 import numpy as np
 
 from ..errors import Cancelled, OutputError, plain_cause
+from ..files import signals
 from ..files.frames import Frames
 from ..files.lives import LIVES_FILE, append_frame, cut_lives
 from ..files.shot_files import REPORT_FILE, frame_file_names, is_shot_report, read_report
@@ -292,16 +293,12 @@ class Run:
         number, path = self.frames.numbers[index], self.frames.paths[index]
         strokes = painted.living.strokes
         lives_path, committed = folder.folder / LIVES_FILE, report["lives"]["bytes"]
-        try:
-            lives_bytes = append_frame(lives_path, number, painted.living.ident, strokes.control,
-                                       strokes.control_count, committed)
-        except BaseException:
-            shutil.rmtree(written.staging, ignore_errors=True)
-            raise
         entry = {"frame": number, "input": path.name, "input_sha256": input_digest(path),
                  "alive": len(painted.living), "born": painted.born, "died": painted.died,
                  "dying": int(np.count_nonzero(painted.living.dying)), **written.entry}
         try:
+            lives_bytes = append_frame(lives_path, number, painted.living.ident, strokes.control,
+                                       strokes.control_count, committed)
             with folder.staged(written.staging) as staging:
                 save_state(staging / STATE_FILE, painted, index, lives_bytes)
                 seconds = dict(painted.seconds, **written.seconds)
@@ -312,9 +309,12 @@ class Run:
                                lives=dict(report["lives"], bytes=lives_bytes))
                 updated.update(sequence_figures(updated["per_frame"], len(self.frames.paths)))
                 write_json(staging / REPORT_FILE, updated)
-        except BaseException:
-            if not (folder.folder / JOURNAL_NAME).exists():
-                cut_lives(lives_path, committed)
+        except BaseException as exc:  # a fault or a signal before the commit point: the frame never was
+            committed_now = isinstance(exc, signals.Interrupted) and exc.committed
+            with signals.deferred():
+                if not committed_now and not (folder.folder / JOURNAL_NAME).exists():
+                    shutil.rmtree(written.staging, ignore_errors=True)
+                    cut_lives(lives_path, committed)
             raise
         report.clear()
         report.update(updated)
