@@ -15,7 +15,14 @@ from ..results import Analysis, Painting
 from ..strokes.brush import brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import detail_anchors, size_map
-from ..strokes.layout import canvas_error, choose_anchors, hertzmann_anchors, painting_order, size_runs
+from ..strokes.layout import (
+    canvas_error,
+    choose_anchors,
+    grids_holding,
+    hertzmann_anchors,
+    painting_order,
+    size_runs,
+)
 from ..strokes.rounds import paint_round
 from ..strokes.streams import visit_uniforms
 from ..strokes.stroke import ColourSources, Stroke, colour_sources, detail_sources
@@ -145,12 +152,14 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
     Returns the layer's strokes.
     """
     draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
+    holding = None if eligible is None else grids_holding(grids, eligible)
     strokes: List[Stroke] = []
     waiting = np.zeros((0, 2), np.int64), np.zeros((0, 4))          # refused bare spots' anchors and draws
     for done, (size, first, stop) in enumerate(runs):
         anchors, chosen, by_difference = choose_anchors(
             grids[first:stop], canvas.opacity, canvas.colour, sources[size].edges, params.coverage_threshold,
-            params.difference_threshold, draws[first:stop, 0], eligible)
+            params.difference_threshold, draws[first:stop, 0], eligible,
+            None if holding is None else holding[first:stop])
         bare = still_bare(waiting[0], canvas.opacity, params.coverage_threshold)
         anchors = np.concatenate([waiting[0][bare], anchors[chosen]])
         run_draws = np.concatenate([waiting[1][bare], draws[first:stop][chosen, 1:]])

@@ -77,10 +77,12 @@ def bilinear(image: np.ndarray, positions: np.ndarray) -> np.ndarray:
     y1 = np.minimum(y0 + 1, height - 1)
     fx = x - x0
     fy = y - y0
+    flat = values.reshape((height * width,) + values.shape[2:])
+    row0, row1 = y0 * width, y1 * width
     if values.ndim == 3:
         fx, fy = fx[..., None], fy[..., None]
-    top = (1.0 - fx) * values[y0, x0] + fx * values[y0, x1]
-    bottom = (1.0 - fx) * values[y1, x0] + fx * values[y1, x1]
+    top = (1.0 - fx) * np.take(flat, row0 + x0, axis=0) + fx * np.take(flat, row0 + x1, axis=0)
+    bottom = (1.0 - fx) * np.take(flat, row1 + x0, axis=0) + fx * np.take(flat, row1 + x1, axis=0)
     return ((1.0 - fy) * top + fy * bottom).astype(np.float32, copy=False)
 
 

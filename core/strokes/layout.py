@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -59,7 +59,7 @@ class ChosenAnchors(NamedTuple):
 
 def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
                    coverage_threshold: float, difference_threshold: float, ties: np.ndarray,
-                   eligible: np.ndarray = None) -> ChosenAnchors:
+                   eligible: np.ndarray = None, holding: Optional[np.ndarray] = None) -> ChosenAnchors:
     """This layer's anchors (x, y) in N (N, 4) grids (x0, y0, x1, y1) of one stroke size, all at once.
 
     coverage: (H, W) in [0, 1], how fully each pixel is painted (the painter
@@ -83,8 +83,19 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
     (each grid's choice is its own): one per worker, or as many as keep each
     within tuning.ANCHOR_CHUNK_PIXELS / workers pixels (so the workers look at about
     tuning.ANCHOR_CHUNK_PIXELS at a time), none of fewer than tuning.ANCHOR_LEAST_PIXELS.
+    ``holding`` (N,) bool, with ``eligible``: which grids hold an eligible pixel (``grids_holding``); the others
+    get no stroke without being looked at.
     """
     grids = np.asarray(grids, np.int64).reshape(-1, 4)
+    if holding is not None and not holding.all():
+        found = ChosenAnchors(np.zeros((len(grids), 2), np.int64), np.zeros(len(grids), bool),
+                              np.zeros(len(grids), bool))
+        if holding.any():
+            looked = choose_anchors(grids[holding], coverage, colour, reference, coverage_threshold,
+                                    difference_threshold, np.asarray(ties)[holding], eligible)
+            for whole, part in zip(found, looked, strict=True):
+                whole[holding] = part
+        return found
     if len(grids) == 0:
         return ChosenAnchors(np.zeros((0, 2), np.int64), np.zeros(0, bool), np.zeros(0, bool))
     areas = (grids[:, 2] - grids[:, 0]) * (grids[:, 3] - grids[:, 1])
@@ -94,6 +105,15 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
                                                 difference_threshold, ties[slice(*run)], eligible),
                     balanced_runs(areas, count, tuning.ANCHOR_LEAST_PIXELS))
     return ChosenAnchors(*(np.concatenate(arrays) for arrays in zip(*parts, strict=True)))
+
+
+def grids_holding(grids: np.ndarray, places: np.ndarray) -> np.ndarray:
+    """(N,) bool: which of N (N, 4) grids (x0, y0, x1, y1) hold a pixel where (H, W) bool ``places`` is True, by a
+    summed-area table of ``places``."""
+    table = np.zeros((places.shape[0] + 1, places.shape[1] + 1), np.int64)
+    np.cumsum(np.cumsum(places, axis=0, dtype=np.int64), axis=1, out=table[1:, 1:])
+    x0, y0, x1, y1 = np.asarray(grids, np.int64).reshape(-1, 4).T
+    return (table[y1, x1] - table[y0, x1] - table[y1, x0] + table[y0, x0]) > 0
 
 
 def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
