@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 from typing import Callable, Optional
@@ -93,64 +94,122 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
     cluster, with the same bytes; None paints in this process and imports no Dask. notice(sentence) hears what a
     resume repaired in the folder (``sequence.shot.paint_sequence``).
     """
+    inputs = [str(path) for path in ([inputs] if isinstance(inputs, (str, os.PathLike)) else inputs)]
+    frames = check_shot(inputs, output_dir, params, settings, frame_range, max_memory)
+    with connected_farm(farm) as client:
+        return painted_shot(frames, output_dir, params, settings, progress, cancel, client, notice)
+
+
+def check_shot(inputs, output_dir, params: Params, settings: Optional[SequenceSettings] = None,
+               frame_range: Optional[str] = None, max_memory: Optional[int] = None):
+    """Everything about a shot that can be refused before work, from names and headers (``paint_sequence_files``
+    says what); returns its ``files.frames.Frames``."""
     from .files.frames import check_output_folder, find_frames
-    from .sequence.shot import paint_sequence
 
     params.validate_shot()
     settings = (settings or SequenceSettings()).validate()
-    inputs = [str(path) for path in ([inputs] if isinstance(inputs, (str, os.PathLike)) else inputs)]
     frames = find_frames(inputs, frame_range, params.max_megapixels)
     check_output_folder(inputs, frames, output_dir, settings.normal_map)
     budget.check_stroke_sizes(params, frames.height, frames.width)
     budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory)
-    try:
-        if farm is None:
-            return paint_sequence(frames, output_dir, params, settings, progress=progress, cancel=cancel,
-                                  notice=notice)
-        from .farm.cluster import connected
+    return frames
+
+
+def painted_shot(frames, output_dir, params: Params, settings: Optional[SequenceSettings], progress: ProgressFn,
+                 cancel: CancelFn, client=None, notice: Optional[Callable[[str], None]] = None) -> dict:
+    """The checked shot ``frames`` painted into ``output_dir`` (on ``client``'s Dask cluster when given); its report,
+    with its "output_dir"."""
+    from .sequence.shot import paint_sequence
+
+    painter = None
+    if client is not None:
         from .farm.sequence import ClusterFrames
 
-        with connected(farm) as client:
-            return paint_sequence(frames, output_dir, params, settings, progress=progress, cancel=cancel,
-                                  frames_painter=ClusterFrames(client), notice=notice)
+        painter = ClusterFrames(client)
+    try:
+        report = paint_sequence(frames, output_dir, params, settings or SequenceSettings(), progress=progress,
+                                cancel=cancel, frames_painter=painter, notice=notice)
     except MemoryError:
         raise out_of_memory(frames.paths[0]) from None
+    report["output_dir"] = str(Path(output_dir).resolve())
+    return report
+
+
+def is_shot(source) -> bool:
+    """Whether a batch's input ``source`` is a shot (a folder of frames or a ``#`` pattern), not a still."""
+    from .files.shot_files import is_pattern
+
+    return os.path.isdir(source) or is_pattern(str(source))
 
 
 def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, progress: ProgressFn = None,
-                cancel: CancelFn = None, max_memory: Optional[int] = None, farm=None) -> list:
-    """Paint each still image of ``inputs`` into a folder of its own under ``output_root``; return the reports in
-    the inputs' order (each with its "output_dir").
+                cancel: CancelFn = None, max_memory: Optional[int] = None, farm=None,
+                settings: Optional[SequenceSettings] = None) -> list:
+    """Paint each still image and each shot of ``inputs`` into a folder of its own under ``output_root``; return
+    the reports in the inputs' order (each with its "output_dir").
 
-    The folders are named as the panel names a painting's (``files.folders.painting_folders``: ``<stem>_001``,
-    the first counter that is free), so a batch never writes over an earlier painting. Every input is checked from
-    its headers first (``check_input``): a bad file is refused in one sentence before anything is painted. Each
-    still is painted by ``paint_file``, in this process one after another, or on a Dask cluster with ``farm`` (a
-    ``core.farm.cluster.Farm``), with the same bytes. Stopped anywhere, the stills painted stay.
+    A shot is an input that is a folder of frames or a ``#`` pattern (``is_shot``): it is painted as
+    ``paint_sequence_files`` paints it alone (``settings``: its ``SequenceSettings``), with the same bytes. The
+    folders are named as the panel names a painting's (``files.folders.painting_folders``: ``<stem>_001``, the
+    first counter that is free; a shot's stem is ``shot_files.shot_name``), so a batch never writes over an
+    earlier painting. Every input is checked from its headers first (``check_input``, ``check_shot``): a bad file
+    is refused in one sentence before anything is painted. Stills are painted by ``paint_file``, in this process
+    one after another, or on a Dask cluster with ``farm`` (a ``core.farm.cluster.Farm``), with the same bytes;
+    shots after them, one after another, each on the cluster when there is one. Stopped anywhere, the stills and
+    the complete frames painted stay.
     """
     from .files.folders import painting_folders
+    from .files.shot_files import shot_name
 
     if not inputs:
         raise ParameterError("Name at least one image to paint.")
-    for source in inputs:
-        check_input(source, params, max_memory=max_memory)
-    folders = painting_folders(str(output_root), [str(source) for source in inputs])
-    if farm is not None:
-        from .farm.batch import paint_stills
-        from .farm.cluster import connected
+    inputs = [str(source) for source in inputs]
+    shots = [is_shot(source) for source in inputs]
+    names = [f"{shot_name(source)}.shot" if shot else source  # an extension for folder_stem to take off
+             for source, shot in zip(inputs, shots, strict=True)]
+    folders = painting_folders(str(output_root), names)
+    frames = {}
+    for source, shot, folder in zip(inputs, shots, folders, strict=True):
+        if shot:
+            frames[source] = check_shot([source], folder, params, settings, max_memory=max_memory)
+        else:
+            check_input(source, params, max_memory=max_memory)
+    reports: list = [None] * len(inputs)
+    stills = [k for k, shot in enumerate(shots) if not shot]
+    with connected_farm(farm) as client:
+        if stills and client is not None:
+            from .farm.batch import paint_stills
 
-        with connected(farm) as client:
             Path(output_root).mkdir(parents=True, exist_ok=True)
-            return paint_stills(client, paint_file, list(zip(inputs, folders, strict=True)), Path(output_root), params,
-                                normal_map, progress, cancel)
-    reports = []
-    for k, (source, folder) in enumerate(zip(inputs, folders, strict=True)):
-        stage = Stage(progress, cancel, k / len(inputs), (k + 1) / len(inputs))
-        named = None if progress is None else (
-            lambda fraction, message, k=k, stage=stage: stage.report(fraction, f"Still {k + 1}/{len(inputs)}: "
-                                                                               f"{message}"))
-        reports.append(paint_file(source, folder, params, progress=named, cancel=cancel, normal_map=normal_map))
+            painted = paint_stills(client, paint_file, [(inputs[k], folders[k]) for k in stills], Path(output_root),
+                                   params, normal_map, progress, cancel)
+            for k, report in zip(stills, painted, strict=True):
+                reports[k] = report
+        for k, (source, folder) in enumerate(zip(inputs, folders, strict=True)):
+            if reports[k] is not None:
+                continue
+            stage = Stage(progress, cancel, k / len(inputs), (k + 1) / len(inputs))
+            kind = "Shot" if shots[k] else "Still"
+            named = None if progress is None else (
+                lambda fraction, message, k=k, stage=stage, kind=kind: stage.report(
+                    fraction, f"{kind} {k + 1}/{len(inputs)}: {message}"))
+            if shots[k]:
+                reports[k] = painted_shot(frames[source], folder, params, settings, named, cancel, client)
+            else:
+                reports[k] = paint_file(source, folder, params, progress=named, cancel=cancel, normal_map=normal_map)
     return reports
+
+
+@contextlib.contextmanager
+def connected_farm(farm):
+    """A Dask client of ``farm`` (a ``core.farm.cluster.Farm``) for the block, or None without one."""
+    if farm is None:
+        yield None
+        return
+    from .farm.cluster import connected
+
+    with connected(farm) as client:
+        yield client
 
 
 def pages_notice(input_path, pages: int) -> str:

@@ -258,12 +258,16 @@ def _add_sequence_parser(sub) -> None:
 def _add_batch_parser(sub) -> None:
     """The ``batch`` subcommand's options."""
     p = _add_files_parser(
-        sub, "batch", "paint unrelated stills, each into a folder of its own",
-        "Paint each INPUT as `paint` does into OUTROOT/<name>_001 (the first free counter, as the "
-        "Blender panel names a painting's folder), in this process one after another or on a Dask "
-        "cluster, with the same bytes. Every input is checked before any painting.",
-        ("input", "INPUT", "still images to paint (PNG, JPEG, TIFF, EXR, ...)"),
+        sub, "batch", "paint unrelated stills and shots, each into a folder of its own",
+        "Paint each INPUT into OUTROOT/<name>_001 (the first free counter, as the Blender panel names a "
+        "painting's folder): a still as `paint` does, a shot (a folder of frames or a pattern with #) as "
+        "`sequence` does, in this process one after another or on a Dask cluster, with the same bytes. "
+        "Every input is checked before any painting.",
+        ("input", "INPUT", "still images (PNG, JPEG, TIFF, EXR, ...) and shots: folders of frames or patterns "
+                           "with # for the frame number"),
         ("OUTROOT", "folder under which each painting gets its own folder (created if missing)"))
+    p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
+                   help="a shot's frames a stroke takes to fade in and out (default: %(default)s)")
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_method_options(p)
@@ -273,13 +277,14 @@ def _add_batch_parser(sub) -> None:
 
 
 def run_batch(args: argparse.Namespace, progress) -> None:
-    """The ``batch`` subcommand: one line per still on stdout, "INPUT -> FOLDER", once all are painted."""
+    """The ``batch`` subcommand: one line per still or shot on stdout, "INPUT -> FOLDER", once all are painted."""
     from .api import paint_batch
     from .heap import reused_heap
 
     with reused_heap():
         reports = paint_batch(args.input, args.output, params_from_args(args), args.normal_map, progress=progress,
-                              max_memory=max_memory(args), farm=farm_from_args(args))
+                              max_memory=max_memory(args), farm=farm_from_args(args),
+                              settings=SequenceSettings(args.fade_frames, args.normal_map).validate())
     if progress is not None:
         progress.close()
     for source, report in zip(args.input, reports, strict=True):

@@ -105,3 +105,88 @@ def farm(workers: int):
     from core.farm.cluster import Farm
 
     return Farm(workers=workers)
+
+
+# --- shots in a batch ----------------------------------------------------------------------------------------------
+
+def shot_painted(folder: Path) -> dict:
+    """``painted`` of a shot's folder: its frames' maps, state and lives file, report.json without seconds."""
+    files = {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file() and p.name != "report.json"}
+    report = json.loads((folder / "report.json").read_text())
+    report.pop("seconds")
+    for entry in report["per_frame"]:
+        entry.pop("seconds")
+    return dict(files, report=report)
+
+
+@pytest.fixture(scope="module")
+def shots(tmp_path_factory):
+    """Two shots of three 48 x 64 frames (a folder, and frames named for a # pattern) and one still."""
+    from test_sequence import write_moving_frames
+
+    root = tmp_path_factory.mktemp("shots")
+    write_moving_frames(root / "walk", 3, shape=(48, 64))
+    write_moving_frames(root / "pan", 3, shape=(48, 64), step=(-1.0, 1.0))
+    return root
+
+
+@pytest.mark.parametrize("name, shot", [("render/shot_####.exr", "shot"), ("render/####.exr", "render"),
+                                        ("take.v2_####_beauty.exr", "take.v2__beauty"), ("a/walk/", "walk"),
+                                        ("a/walk", "walk")])
+def test_a_shot_is_named_by_its_folder_or_its_pattern_without_the_frame_number(name, shot):
+    from core.files.shot_files import shot_name
+
+    assert shot_name(name) == shot
+
+
+def test_a_batch_of_shots_and_a_still_paints_each_as_painting_it_alone(tmp_path, shots):
+    from core.api import paint_sequence_files
+
+    still = shots / "walk" / "frame_0001.png"
+    inputs = [shots / "walk", shots / "pan" / "frame_####.png", still]
+    run = subprocess.run([sys.executable, "-m", "core", "batch", *map(str, inputs), "-o", str(tmp_path / "out"),
+                          "-q", "--seed", "9"], cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.splitlines() == [f"{inputs[0]} -> {tmp_path / 'out' / 'walk_001'}",
+                                       f"{inputs[1]} -> {tmp_path / 'out' / 'frame_001'}",
+                                       f"{inputs[2]} -> {tmp_path / 'out' / 'frame_0001_001'}"]
+    for source, folder in ((inputs[0], "walk"), (inputs[1], "pan")):
+        paint_sequence_files(source, tmp_path / "alone" / folder, PARAMS)
+    assert shot_painted(tmp_path / "out" / "walk_001") == shot_painted(tmp_path / "alone" / "walk")
+    assert shot_painted(tmp_path / "out" / "frame_001") == shot_painted(tmp_path / "alone" / "pan")
+    paint_file(still, tmp_path / "alone" / "still", PARAMS)
+    assert painted(tmp_path / "out" / "frame_0001_001") == painted(tmp_path / "alone" / "still")
+
+
+def test_a_bad_shot_is_refused_before_anything_is_painted(tmp_path, shots):
+    import shutil
+
+    shutil.copytree(shots / "walk", tmp_path / "odd")
+    write_png(tmp_path / "odd" / "frame_0002.png", np.full((40, 64, 3), 0.5))
+    with pytest.raises(InputError, match="frame_0002.png"):
+        paint_batch([shots / "walk" / "frame_0001.png", tmp_path / "odd"], tmp_path / "out", PARAMS)
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_batch_with_hertzmann_1998_and_a_shot_is_refused_before_anything_is_painted(tmp_path, shots):
+    from core.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="paper"):
+        paint_batch([shots / "walk" / "frame_0001.png", shots / "walk"], tmp_path / "out",
+                    Params(seed=9, method="hertzmann98"))
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.cluster
+def test_a_batch_of_shots_on_two_local_workers_paints_the_bytes_of_one_process(tmp_path, shots):
+    pytest.importorskip("distributed")
+    from core.farm.cluster import Farm
+
+    inputs = [shots / "walk", shots / "pan", shots / "walk" / "frame_0002.png"]
+    here = paint_batch(inputs, tmp_path / "here", PARAMS)
+    there = paint_batch(inputs, tmp_path / "there", PARAMS, farm=Farm(workers=2))
+    for mine, theirs in zip(here, there, strict=True):
+        mine, theirs = Path(mine["output_dir"]), Path(theirs["output_dir"])
+        assert mine.name == theirs.name
+        same = shot_painted if (mine / "strokes.lives").exists() else painted
+        assert same(mine) == same(theirs)

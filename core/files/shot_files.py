@@ -65,6 +65,18 @@ def pattern_parts(name: str) -> Tuple[str, int, str]:
     return name[:last.start()], last.end() - last.start(), name[last.end():]
 
 
+def shot_name(source: str) -> str:
+    """The name a shot given as ``source`` (a folder of frames or a ``#`` pattern) is known by: the folder's name,
+    or the pattern's file name without its frame number, extension and the separators around them
+    (``render/shot_####.exr`` -> ``shot``; ``render/####.exr`` -> ``render``)."""
+    folder, name = os.path.split(os.path.normpath(str(source)))
+    if not is_pattern(name):
+        return name
+    before, _, after = pattern_parts(name)
+    stem = (before + after.rpartition(".")[0] if "." in after else before + after).strip("._- ")
+    return stem or os.path.basename(folder)
+
+
 def pattern_file(pattern: str, number: int) -> str:
     """The file of frame ``number`` in a frame ``pattern`` (more digits than its ``#`` when the number needs them,
     as Blender writes): ``("shot_####.png", 12)`` -> ``"shot_0012.png"``."""
