@@ -405,6 +405,28 @@ def test_choose_anchors_of_many_grids_equal_each_grid_alone():
     assert alone[6] is None and alone[0] is not None
 
 
+def test_grids_known_to_hold_no_eligible_pixel_are_skipped_with_the_same_anchors():
+    """``holding`` (``grids_holding`` of the eligible places) changes nothing but what is looked at: the grids
+    without an eligible pixel get no stroke either way, and the others the same anchors."""
+    from core.strokes.layout import grids_holding
+
+    rng = np.random.default_rng(3)
+    coverage = rng.choice([0.0, 0.3, 0.9], size=(30, 40)).astype(np.float32)
+    colour = rng.uniform(0, 1, (30, 40, 3)).astype(np.float32)
+    reference = smooth(np.clip(colour + rng.normal(0, 0.2, colour.shape), 0, 1).astype(np.float32), 0.0)
+    eligible = np.zeros((30, 40), bool)
+    eligible[3, 5] = eligible[25, 38] = eligible[12:14, 21:23] = True
+    grids = np.array([[x, y, x + 10, y + 10] for y in (0, 10, 20) for x in (0, 10, 20, 30)])
+    holding = grids_holding(grids, eligible)
+    assert holding.tolist() == [k in (0, 6, 11) for k in range(12)]
+    ties = rng.uniform(size=len(grids))
+    looked_at_all = choose_anchors(grids, coverage, colour, reference, 0.5, 0.1, ties, eligible)
+    skipped = choose_anchors(grids, coverage, colour, reference, 0.5, 0.1, ties, eligible, holding)
+    for every, some in zip(looked_at_all, skipped, strict=True):
+        assert np.array_equal(every, some)
+    assert looked_at_all.chosen[holding].any() and not looked_at_all.chosen[~holding].any()
+
+
 # ---------------------------------------------------------------------------
 # 7. accumulate vs over
 
