@@ -1342,6 +1342,10 @@ def _(place):
     oldest = ROOT / ".venv-numpy1" / "bin" / "python"
     if not oldest.exists():
         raise Skipped(f"{oldest} is not made (make .venv-numpy1/.installed)")
+    theirs = subprocess.run([str(oldest), "-c", "import distributed, numpy; print(numpy.__version__)"],
+                            capture_output=True, text=True, timeout=120)
+    if theirs.returncode != 0 or theirs.stdout.strip() == np.__version__:
+        raise Skipped(f"{oldest} runs the NumPy of this interpreter, or no Dask")
     with dask_cluster(place, workers=1, worker=Worker(python=str(oldest))) as dask:
         out = place.folder() / "out"
         refused(sequence([place.frames], out, "--scheduler", dask.address), "NumPy")
