@@ -63,6 +63,10 @@ LAY_LEAST_ENTRIES = 1 << 16
 """Footprint entries below which a run of strokes is laid in one band rather than in bands of rows on the
 worker threads (``strokes.canvas``)."""
 
+RELAY_TILE = 32
+"""px: the side of the square tiles in which a frame of a shot is laid again where its strokes changed
+(``strokes.relay``): smaller tiles lay fewer pixels again, at more bookkeeping."""
+
 BAND_SAMPLE = 8
 """Bands of rows are balanced on the rows of every BAND_SAMPLE-th entry (``strokes.canvas.row_bands``)."""
 

@@ -167,6 +167,34 @@ def test_an_object_entering_the_frame_is_born_on_only_where_it_and_the_backgroun
     assert left + step + size + reach < shape[1] / 2    # half the background lies beyond reach
 
 
+
+@pytest.mark.parametrize("fade_frames", [1, 3])
+def test_the_frame_shown_made_from_the_canvas_laid_while_painting_is_every_stroke_laid_anew(fade_frames,
+                                                                                              monkeypatch):
+    """Each frame's shown canvas, made from its judging canvas with the births laid where strokes faded, died or
+    were born (``relay.relaid``), has the bytes of its strokes laid on a blank canvas; the first frame's is the
+    still's canvas. The square's frames change a small part of the canvas, so most tiles are kept."""
+    from core import tuning
+    from core.params import scaled_sizes
+    from core.sequence.frame_step import frame_tips, laid
+
+    monkeypatch.setattr(tuning, "RELAY_TILE", 8)
+    shape, step = (120, 240), 8
+    params = Params(seed=4)
+    tips = frame_tips(params, scaled_sizes(params, *shape))
+    frame = first_frame(square_scene(shape, 20), params, fade_frames, NO_STAGE)
+    for t in range(4):
+        if t:
+            left = 20 + (t - 1) * step
+            frame = next_frame(frame, t, square_scene(shape, left + step), square_motion(shape, left, step), params,
+                               NO_STAGE)
+            assert len(frame.laid_on.changed) > 0
+        anew = laid(frame.living, tips, params, shape)
+        for name in ("colour", "height", "opacity", "coverage"):
+            assert getattr(shown_canvas(frame, params, shape), name).tobytes() == getattr(anew, name).tobytes(), \
+                (t, name)
+        assert shown_canvas(frame._replace(laid_on=None), params, shape).colour.tobytes() == anew.colour.tobytes()
+
 def write_moving_frames(folder: Path, count: int, shape=(96, 128), step=(1.5, 0.5)) -> None:
     """``count`` PNG frames of the photograph moving by ``step`` px a frame."""
     folder.mkdir(parents=True)

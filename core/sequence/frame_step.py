@@ -8,7 +8,10 @@ pass against it where the carried painting leaves the canvas bare or wrong
 layer, visit), and the carried strokes anchored there start to fade out.
 The frame shown is every stroke laid in order at its fade contact
 (``shown_canvas``), a function of the frame's strokes alone, so it can be
-laid anywhere once the strokes' life has reached the frame.
+laid anywhere once the strokes' life has reached the frame. It is made from
+the judging canvas with the births laid (``PaintedFrame.laid_on``), laid
+again only where a stroke fades, dies or is born (``strokes.relay``), which
+gives the same bytes as laying every stroke anew.
 """
 
 from __future__ import annotations
@@ -29,9 +32,17 @@ from ..strokes.brush import BrushTip, brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import size_map
 from ..strokes.path import nearest_pixels
+from ..strokes.relay import relaid
 from ..strokes.streams import frame_seed
 from ..strokes.stroke import colour_sources, detail_sources
-from ..strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeRecorder, lay_strokes, reaching_rows
+from ..strokes.stroke_list import (
+    PAINTING_BRUSH,
+    ROUND_BRUSH,
+    StrokeRecorder,
+    lay_strokes,
+    reaching_rows,
+    segment_boxes,
+)
 from .carry import carry, recoloured
 from .living import LivingStrokes
 
@@ -53,6 +64,14 @@ class FrameMotion(NamedTuple):
     seconds: float = 0.0        # wall-clock seconds of finding it
 
 
+class LaidCanvas(NamedTuple):
+    """The canvas a frame's strokes were laid on while it was painted, which its frame shown is made from."""
+
+    canvas: Canvas              # (H, W), colour not clipped
+    changed: np.ndarray         # float64 (K, 4) px, the boxes (``segment_boxes``) of the strokes laid on it otherwise
+                                #   than the frame shows them: at another contact, in another order, or not at all
+
+
 class PaintedFrame(NamedTuple):
     """A painted frame and what the next frame needs of it."""
 
@@ -66,6 +85,7 @@ class PaintedFrame(NamedTuple):
     born: int                   # strokes born on this frame
     died: int                   # strokes gone since the frame before (occluded, or faded out)
     seconds: Dict[str, float]   # wall-clock seconds of each stage of painting it
+    laid_on: Optional[LaidCanvas] = None  # the canvas laid while painting it; None: the frame shown is laid anew
 
 
 class FrameAnalysis(NamedTuple):
@@ -90,9 +110,11 @@ def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stag
     painting = paint(image, params, stage.progress, stage.cancel, record_strokes=True)
     strokes = painting.statistics["seconds"]["strokes"]
     living = LivingStrokes.born(painting.stroke_list, 0, 0, fade_frames, fade_frames)
+    canvas = Canvas(painting.colour, painting.coverage, painting.height, painting.opacity)
     return PaintedFrame(living, painting.orientation, colour_distance(painting.colour, painting.analysis.reference),
                         np.zeros(image.shape[:2], bool), painting.opacity, len(living), len(living), 0,
-                        {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes})
+                        {"analysis": time.perf_counter() - clock - strokes, "strokes": strokes},
+                        LaidCanvas(canvas, np.zeros((0, 4))))
 
 
 class CarriedFrame(NamedTuple):
@@ -181,7 +203,8 @@ def born_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     laid_error = np.where(nearest(previous.fresh, came_from), error, bilinear(previous.error, came_from))
     eligible = birth_places(judging, error, laid_error, bilinear(previous.opacity, came_from), motion.seen_before,
                             params)
-    living, gone = carried.living.fading_out(anchored_in(carried.living.strokes.anchor, eligible))
+    stale = anchored_in(carried.living.strokes.anchor, eligible)
+    living, gone = carried.living.fading_out(stale)
     recorder = StrokeRecorder()
     births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
     paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
@@ -191,10 +214,14 @@ def born_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
                       eligible)
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
+    unsettled = carried.living.dying | (carried.living.strokes.contact != 1)
+    changed = np.concatenate([segment_boxes(carried.living.strokes.subset(stale | unsettled))[0],
+                              segment_boxes(born.strokes)[0]])
     seconds = {"carry": carried.seconds, "settling": sum(part.seconds for part in judging_rows),
                "birth": time.perf_counter() - clock}
     return PaintedFrame(frame, analysis.orientation, laid_error, eligible, judging.opacity,
-                        previous.next_ident + len(born), len(born), carried.gone + gone, seconds)
+                        previous.next_ident + len(born), len(born), carried.gone + gone, seconds,
+                        LaidCanvas(judging, changed))
 
 
 def unchanged(previous: PaintedFrame, motion: FrameMotion) -> bool:
@@ -262,8 +289,14 @@ def frame_tips(params: Params, sizes) -> Dict[Tuple[int, int], BrushTip]:
 
 
 def shown_canvas(frame: PaintedFrame, params: Params, shape: tuple) -> Canvas:
-    """The (H, W) ``shape`` frame as shown: its strokes laid in order at their contact, colour clipped to [0, 1]."""
-    return laid(frame.living, frame_tips(params, scaled_sizes(params, *shape)), params, shape)
+    """The (H, W) ``shape`` frame as shown: its strokes laid in order at their contact, colour clipped to [0, 1];
+    made from the canvas laid while painting it (``relay.relaid``) when the frame keeps one."""
+    tips = frame_tips(params, scaled_sizes(params, *shape))
+    if frame.laid_on is None:
+        return laid(frame.living, tips, params, shape)
+    canvas = relaid(frame.laid_on.canvas, frame.laid_on.changed, frame.living.strokes, tips, params)
+    np.clip(canvas.colour, 0.0, 1.0, out=canvas.colour)
+    return canvas
 
 
 def laid(frame: LivingStrokes, tips: Dict[Tuple[int, int], BrushTip], params: Params, shape: tuple) -> Canvas:

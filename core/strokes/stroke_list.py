@@ -164,19 +164,49 @@ def bristle_entries(bristle_starts: np.ndarray, picked: np.ndarray) -> Tuple[np.
     return np.repeat(bristle_starts[picked] - starts[:-1], counts) + np.arange(starts[-1]), starts
 
 
-def reaching_rows(strokes: StrokeList, first_row: int, stop_row: int) -> np.ndarray:
-    """(N,) bool: the strokes whose paint may reach the canvas rows first_row .. stop_row - 1. A stroke's paint
-    lies within its control points' rows widened by its width (the brush reaches at most 0.62 of it beyond its
-    control points on the painter's strokes: half across, a little along, the filter's edge), half the longest
-    step between its control points (its Catmull-Rom curve strays from them by less) and 2 px; laying the
-    strokes this picks gives those rows exactly as laying every stroke does."""
-    if len(strokes) == 0:
-        return np.zeros(0, bool)
-    rows = strokes.control[..., 1]
+def reach_margins(strokes: StrokeList) -> np.ndarray:
+    """(N,) float64 px: how far each stroke's paint may lie from its control polygon. The brush reaches at most
+    0.62 of its width beyond its control points on the painter's strokes (half across, a little along, the
+    filter's edge); a Catmull-Rom curve strays from a segment of its control polygon by less than half the longest
+    step between its control points (a third of it at most); and 2 px."""
     steps = np.linalg.norm(np.diff(strokes.control, axis=1), axis=2) if strokes.control.shape[1] > 1 else \
         np.zeros((len(strokes), 1))
-    margin = strokes.size + 0.5 * np.nanmax(np.where(np.isnan(steps), 0.0, steps), axis=1) + 2.0
-    return (np.nanmax(rows, axis=1) + margin >= first_row) & (np.nanmin(rows, axis=1) - margin < stop_row)
+    return strokes.size + 0.5 * np.nanmax(np.where(np.isnan(steps), 0.0, steps), axis=1) + 2.0
+
+
+def reach_boxes(strokes: StrokeList) -> np.ndarray:
+    """(N, 4) float64 px: (x0, x1, y0, y1), a box around each stroke that its paint does not leave: its control
+    points' box widened by its ``reach_margins``."""
+    if len(strokes) == 0:
+        return np.zeros((0, 4))
+    margin = reach_margins(strokes)[:, None]
+    low, high = np.nanmin(strokes.control, axis=1) - margin, np.nanmax(strokes.control, axis=1) + margin
+    return np.stack([low[:, 0], high[:, 0], low[:, 1], high[:, 1]], axis=1)
+
+
+def segment_boxes(strokes: StrokeList) -> Tuple[np.ndarray, np.ndarray]:
+    """Boxes around the pieces of the strokes' paint, tighter than ``reach_boxes`` for a long or curved stroke:
+    (S, 4) float64 px (x0, x1, y0, y1), one per segment of each control polygon (one per stroke of a single
+    control point) widened by the stroke's ``reach_margins``, and owner (S,) int64, the stroke each belongs to, in
+    order. A stroke's paint does not leave the union of its boxes."""
+    if len(strokes) == 0:
+        return np.zeros((0, 4)), np.zeros(0, np.int64)
+    control, count = strokes.control, strokes.control_count
+    segments = np.maximum(count - 1, 1)
+    owner = np.repeat(np.arange(len(strokes)), segments)
+    step = np.arange(len(owner)) - np.repeat(np.cumsum(segments) - segments, segments)
+    start = control[owner, step]
+    end = control[owner, np.minimum(step + 1, count[owner] - 1)]
+    margin = reach_margins(strokes)[owner, None]
+    low, high = np.minimum(start, end) - margin, np.maximum(start, end) + margin
+    return np.stack([low[:, 0], high[:, 0], low[:, 1], high[:, 1]], axis=1), owner
+
+
+def reaching_rows(strokes: StrokeList, first_row: int, stop_row: int) -> np.ndarray:
+    """(N,) bool: the strokes whose paint may reach the canvas rows first_row .. stop_row - 1 (``reach_boxes``);
+    laying the strokes this picks gives those rows exactly as laying every stroke does."""
+    boxes = reach_boxes(strokes)
+    return (boxes[:, 3] >= first_row) & (boxes[:, 2] < stop_row)
 
 
 def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int], BrushTip], params: Params) -> None:
