@@ -44,9 +44,15 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    os.wait4), and whether every run wrote the same bytes (every .png, .exr
    and strokes.lives file). These commands run before the pieces are timed,
    since a child started by vfork counts this process's peak as its own.
+5. Many shots at once: `python -m core batch SHOT SHOT ... -o ROOT --seed 5
+   --workers N` for N = 1 and 2 on ``--shots`` (default --small-clip twice:
+   two shots painted into ROOT/<name>_001 and _002), the median wall time
+   over ``--runs`` runs each, the ratio of --workers 2 to --workers 1, and
+   whether each shot's folder holds the bytes of `core sequence SHOT` in one
+   process (part 4's run, or one run of its own for a shot not painted there).
 
-Usage: python bench/farm.py [--clip DIR] [--frames A-B] [--small-clip DIR] [--runs 3] [--seed 5]
-         [--skip-pieces] [--skip-speedup]
+Usage: python bench/farm.py [--clip DIR] [--frames A-B] [--small-clip DIR] [--shots DIR DIR ...] [--runs 3]
+         [--seed 5] [--skip-pieces] [--skip-speedup] [--skip-shots]
 """
 
 from __future__ import annotations
@@ -309,6 +315,58 @@ def measure_speedup(clip: str, seed: int, runs: int, work: Path) -> dict:
     return {"runs": results, "same": same, "files": len(reference or {})}
 
 
+def measure_shots(shots: Sequence[str], seed: int, runs: int, work: Path) -> dict:
+    """`core batch SHOTS` with --workers 1 and 2, ``runs`` times each in turn, each into a new root, and each shot
+    painted alone by `core sequence` once.
+
+    Returns {"walls": {workers: [s]}, "same": whether every shot's folder of every run holds the bytes of that
+    shot painted alone, "files": files compared per run}.
+    """
+    alone = {}
+    for k, shot in enumerate(dict.fromkeys(shots)):
+        out = work / f"alone{k}"
+        run_child([sys.executable, "-m", "core", "sequence", shot, "-o", out, "--seed", seed, "-q"],
+                  "core sequence (a shot alone)", quiet=True)
+        alone[shot] = output_digests(out)
+    walls, same, files = {1: [], 2: []}, True, 0
+    for r in range(runs):
+        for n in (1, 2):
+            root = work / f"batch_workers{n}_run{r}"
+            wall, _ = run_child([sys.executable, "-m", "core", "batch", *shots, "-o", root, "--seed", seed, "-q",
+                                 "--workers", n], f"core batch --workers {n}", quiet=True)
+            walls[n].append(wall)
+            folders = sorted(p for p in root.iterdir() if p.is_dir())
+            painted = [output_digests(folder) for folder in folders]
+            files = sum(len(d) for d in painted)
+            same = same and len(folders) == len(shots) and all(
+                digests == alone[shot] for digests, shot in zip(painted, sorted_shots(shots, folders), strict=True))
+            print(f"core batch --workers {n} run {r + 1}: {wall:.2f} s", file=sys.stderr)
+    return {"walls": walls, "same": same, "files": files}
+
+
+def sorted_shots(shots: Sequence[str], folders: Sequence[Path]) -> list:
+    """The shot painted into each of ``folders`` (sorted by name): batch names a shot's folder
+    <shot name>_<counter>, in the inputs' order among shots of one name."""
+    from core.files.shot_files import shot_name
+
+    names = {}
+    for shot in shots:
+        names.setdefault(shot_name(shot), []).append(shot)
+    return [names[folder.name.rsplit("_", 1)[0]][int(folder.name.rsplit("_", 1)[1]) - 1] for folder in folders]
+
+
+def print_shots(measured: dict, shots: Sequence[str], runs: int) -> None:
+    """The many-shots table: --workers 1 and 2, the ratio and whether the bytes are those of each shot alone."""
+    print(f"`core batch {' '.join(shots)} --seed 5 --workers N` ({len(shots)} shots at once), wall time of the whole "
+          f"command, median of {runs}")
+    medians = {n: statistics.median(walls) for n, walls in measured["walls"].items()}
+    for n, walls in measured["walls"].items():
+        print(f"{workers_name(n):<36} {medians[n]:>9.2f} {min(walls):>6.2f}-{max(walls):.2f}")
+    print(f"--workers 2 / --workers 1: {medians[2] / medians[1]:.2f} (the issue asks <= 0.6)")
+    print(f"same bytes as each shot painted alone: {'yes' if measured['same'] else 'no'} ({measured['files']} files "
+          f"a run)")
+
+
 def workers_name(n: int) -> str:
     """"--workers 2", or "one process" for 0 (no --workers)."""
     return f"--workers {n}" if n else "one process"
@@ -404,17 +462,22 @@ def main() -> None:
                         help=f"frames of --clip (default {CLIP_FRAMES} for the default clip, else all)")
     parser.add_argument("--small-clip", default=str(SMALL_CLIP),
                         help=f"clip painted with --workers 1 and 2 (default {SMALL_CLIP})")
+    parser.add_argument("--shots", nargs="+", default=None, metavar="SHOT",
+                        help="shots painted at once by core batch (default --small-clip twice)")
     parser.add_argument("--runs", type=int, default=3, help="runs of each --workers N (default 3)")
     parser.add_argument("--seed", type=int, default=5)
     parser.add_argument("--projected-frames", type=int, default=PROJECTED_FRAMES, help="frames of the projection")
     parser.add_argument("--network-gbps", type=float, default=1.0, help="GB/s of the projection's network")
     parser.add_argument("--skip-pieces", action="store_true", help="measure the speed-up only")
-    parser.add_argument("--skip-speedup", action="store_true", help="measure the pieces only")
+    parser.add_argument("--skip-speedup", action="store_true", help="skip `core sequence --workers N`")
+    parser.add_argument("--skip-shots", action="store_true", help="skip `core batch` of many shots")
     args = parser.parse_args()
     if args.runs < 1 or args.projected_frames < 2:
         parser.error("--runs must be at least 1 and --projected-frames at least 2")
     for clip, option, skipped in ((args.clip, "--clip", args.skip_pieces),
-                                  (args.small_clip, "--small-clip", args.skip_speedup)):
+                                  (args.small_clip, "--small-clip", args.skip_speedup and (args.skip_shots or
+                                                                                           args.shots)),
+                                  *((shot, "--shots", args.skip_shots) for shot in args.shots or ())):
         if not skipped and not Path(clip).exists():
             parser.error(f"{option} {clip} does not exist: give footage, or render a clip with "
                          f"`python sample_scenes/sequence_scene.py -o DIR --frames 6 --size 424x240 --png`")
@@ -424,6 +487,8 @@ def main() -> None:
         # The commands run first: a child started by vfork keeps this process's peak as its own ru_maxrss.
         speedup = None if args.skip_speedup else measure_speedup(args.small_clip, args.seed, args.runs,
                                                                   Path(tmp) / "speedup")
+        shots = args.shots or [args.small_clip, args.small_clip]
+        at_once = None if args.skip_shots else measure_shots(shots, args.seed, args.runs, Path(tmp) / "shots")
         if not args.skip_pieces:
             measured = measure_pieces(args.clip, frame_range, args.seed, Path(tmp) / "pieces")
             if len(measured["seconds"]) < 2:
@@ -435,6 +500,8 @@ def main() -> None:
             print_projection(first, later, later_bytes, args.projected_frames, args.network_gbps)
         if speedup is not None:
             print_speedup(speedup, args.small_clip, args.runs)
+        if at_once is not None:
+            print_shots(at_once, shots, args.runs)
 
 
 if __name__ == "__main__":

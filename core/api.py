@@ -116,8 +116,9 @@ def check_shot(inputs, output_dir, params: Params, settings: Optional[SequenceSe
 
 
 def painted_shot(frames, output_dir, params: Params, settings: Optional[SequenceSettings], progress: ProgressFn,
-                 cancel: CancelFn, client=None, notice: Optional[Callable[[str], None]] = None) -> dict:
-    """The checked shot ``frames`` painted into ``output_dir`` (on ``client``'s Dask cluster when given); its report,
+                 cancel: CancelFn, client=None, notice: Optional[Callable[[str], None]] = None, shared=None) -> dict:
+    """The checked shot ``frames`` painted into ``output_dir`` (on ``client``'s Dask cluster when given, its threads
+    ``shared`` with other shots painted at once when that is a ``farm.shared_threads.SharedThreads``); its report,
     with its "output_dir"."""
     from .sequence.shot import paint_sequence
 
@@ -125,7 +126,7 @@ def painted_shot(frames, output_dir, params: Params, settings: Optional[Sequence
     if client is not None:
         from .farm.sequence import ClusterFrames
 
-        painter = ClusterFrames(client)
+        painter = ClusterFrames(client, shared)
     try:
         report = paint_sequence(frames, output_dir, params, settings or SequenceSettings(), progress=progress,
                                 cancel=cancel, frames_painter=painter, notice=notice)
@@ -155,8 +156,8 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
     earlier painting. Every input is checked from its headers first (``check_input``, ``check_shot``): a bad file
     is refused in one sentence before anything is painted. Stills are painted by ``paint_file``, in this process
     one after another, or on a Dask cluster with ``farm`` (a ``core.farm.cluster.Farm``), with the same bytes;
-    shots after them, one after another, each on the cluster when there is one. Stopped anywhere, the stills and
-    the complete frames painted stay.
+    shots after them, one after another in one process, all at once on a cluster (``farm.batch.paint_shots``).
+    Stopped anywhere, the stills and the complete frames painted stay.
     """
     from .files.folders import painting_folders
     from .files.shot_files import shot_name
@@ -184,6 +185,22 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
             painted = paint_stills(client, paint_file, [(inputs[k], folders[k]) for k in stills], Path(output_root),
                                    params, normal_map, progress, cancel)
             for k, report in zip(stills, painted, strict=True):
+                reports[k] = report
+        shot_indices = [k for k, shot in enumerate(shots) if shot]
+        if len(shot_indices) > 1 and client is not None:
+            from .farm.batch import paint_shots
+
+            def paint_shot(j, shot_progress, shot_cancel, shared):
+                k = shot_indices[j]
+                return painted_shot(frames[inputs[k]], folders[k], params, settings,
+                                    lambda fraction, message: shot_progress(fraction, f"Shot {k + 1}/{len(inputs)}: "
+                                                                                      f"{message}"),
+                                    shot_cancel, client, shared=shared)
+
+            start = len(stills) / len(inputs)
+            painted = paint_shots(paint_shot, len(shot_indices), None if progress is None else (
+                lambda fraction, message: progress(start + (1 - start) * fraction, message)), cancel)
+            for k, report in zip(shot_indices, painted, strict=True):
                 reports[k] = report
         for k, (source, folder) in enumerate(zip(inputs, folders, strict=True)):
             if reports[k] is not None:

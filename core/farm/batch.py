@@ -1,22 +1,28 @@
-"""A batch of unrelated stills painted on a Dask cluster: one task per still, each into its own folder.
+"""A batch painted on a Dask cluster: stills one task each, shots at once, each into its own folder.
 
 Each still is painted by the same call as in one process (``core.api.paint_file``,
 handed in by the caller), so its folder holds the same bytes. A still whose
 worker is lost is painted again elsewhere; its folder's lock and all-or-nothing
 commit (``files.staging``) keep a second painting of it from mixing files.
+Shots are painted at once, each by the call that paints it alone
+(``core.api.painted_shot``) in a thread of this process, their pieces
+sharing the cluster's threads (``shared_threads``), so N shots keep up to N
+times the workers busy.
 """
 
 from __future__ import annotations
 
 import concurrent.futures
 import secrets
+import threading
 from pathlib import Path
-from typing import Callable, List, Tuple
+from typing import Callable, List, Sequence, Tuple
 
 from ..errors import Cancelled
 from ..params import Params
 from ..progress import CancelFn, ProgressFn
 from .cluster import FarmError, address, check_new_workers, describe, import_distributed, raise_error
+from .shared_threads import SharedThreads
 
 WAIT_SECONDS = 0.25
 """Seconds between looks at the cancel callback while stills are painted."""
@@ -65,3 +71,45 @@ def paint_stills(client, paint_file: Callable, jobs: List[Tuple[Path, Path]], ou
                         f"{output_root}.") from None
     finally:
         client.cancel([f for f in futures if not f.done()])
+
+
+def paint_shots(paint_shot: Callable, count: int, progress: ProgressFn = None, cancel: CancelFn = None) -> List[dict]:
+    """Paint ``count`` shots at once, shot k by ``paint_shot(k, progress, cancel, shared)`` in a thread of its
+    own, all with one ``SharedThreads``; return their reports in order.
+
+    progress(fraction, message): the shots' mean fraction, with the message of the shot that spoke. A shot that
+    fails stops the others (each keeps its complete frames) and its error is raised; cancel() or a signal to this
+    process stops them all the same way.
+    """
+    shared, stop, lock = SharedThreads(), threading.Event(), threading.Lock()
+    fractions = [0.0] * count
+
+    def stopped() -> bool:
+        return stop.is_set() or (cancel is not None and cancel())
+
+    def reporter(k: int) -> ProgressFn:
+        def report(fraction: float, message: str) -> None:
+            with lock:
+                fractions[k] = fraction
+                if progress is not None:
+                    progress(sum(fractions) / count, message)
+        return report
+
+    with concurrent.futures.ThreadPoolExecutor(count, thread_name_prefix="paint-relief-shot") as pool:
+        futures = [pool.submit(paint_shot, k, reporter(k), stopped, shared) for k in range(count)]
+        try:
+            for future in concurrent.futures.as_completed(futures):
+                if future.exception() is not None:
+                    stop.set()
+        finally:
+            stop.set()
+    return [future.result() for future in first_failure(futures)]
+
+
+def first_failure(futures: Sequence[concurrent.futures.Future]) -> Sequence[concurrent.futures.Future]:
+    """``futures``, all done, when none failed; else raise the error of the first that failed for a reason of its
+    own (a shot stopped because another failed raises Cancelled, which comes last)."""
+    errors = [future.exception() for future in futures if future.exception() is not None]
+    if errors:
+        raise next((error for error in errors if not isinstance(error, Cancelled)), errors[0])
+    return futures

@@ -14,10 +14,12 @@ folder only ever holds complete frames, exactly as one process writes them.
 
 Which piece runs next and where is ``scheduling``'s choice: no more pieces
 running than the cluster has threads, the most urgent first, each on the
-free worker that holds most of its inputs.
+free worker that holds most of its inputs. Several shots painted at once
+(``core batch``) share the threads (``shared_threads``).
 
-A frame's strokes come back to this process and travel with the next
-frame's life tasks (``frame_file.cluster_arguments``), so the life never
+A frame's strokes come back to this process (without the canvas its births
+were laid on, which only its SHOWN piece needs: ``lived_strokes``) and
+travel with the next frame's life tasks (``frame_file.cluster_arguments``), so the life never
 depends on data held by one worker alone: a lost worker's tasks run again
 elsewhere from their own arguments, and the bytes are those of one process.
 A task that runs twice writes two staging folders; one is committed and the
@@ -34,28 +36,36 @@ from typing import Dict, List, Set
 from ..errors import Cancelled
 from ..files.staging import recover
 from ..progress import CancelFn, ProgressFn
+from ..sequence.frame_step import PaintedFrame
 from ..sequence.pieces import PieceKey, PieceKind, Rows, judging_bands
 from ..sequence.shot import Run
 from .cluster import FarmError, address, check_new_workers, describe, import_distributed, large_arguments, raise_error
 from .frame_file import cluster_arguments
-from .scheduling import Board, band_count, frames_ahead, free_workers, place, urgent
+from .scheduling import Board, band_count, frames_ahead, place, urgent
+from .shared_threads import SharedThreads
 
 WAIT_SECONDS = 0.25
 """Seconds between looks at the cancel callback while tasks run."""
 
 
-class ClusterFrames:
-    """``shot.paint_sequence``'s way of painting frames, on the cluster of ``client``."""
+def lived_strokes(painted: PaintedFrame) -> PaintedFrame:
+    """What of a frame's BIRTH piece comes back to this process: all but the canvas its births were laid on."""
+    return painted._replace(laid_on=None)
 
-    def __init__(self, client):
-        self.client = client
+
+class ClusterFrames:
+    """``shot.paint_sequence``'s way of painting frames, on the cluster of ``client``; ``shared``: the threads
+    shared with the other shots painted at once (None: the shot has the cluster to itself)."""
+
+    def __init__(self, client, shared: SharedThreads = None):
+        self.client, self.shared = client, shared
 
     def __call__(self, run: Run, start: int, report: dict, folder, progress: ProgressFn, cancel: CancelFn) -> None:
         """Paint ``run``'s frames ``start`` .. the last on the cluster, committing each in order."""
         distributed = import_distributed()
         try:
             with large_arguments(), self.client.as_current():
-                ClusterRun(self.client, run, start, folder).paint(report, progress, cancel)
+                ClusterRun(self.client, run, start, folder, self.shared).paint(report, progress, cancel)
         except (concurrent.futures.CancelledError, distributed.comm.CommClosedError, OSError):
             raise FarmError(f"Lost the Dask scheduler at {address(self.client)}; the complete frames in "
                             f"{folder.folder} stay, and the same command goes on after them.") from None
@@ -67,22 +77,33 @@ class ClusterFrames:
 
 class ClusterRun:
     """One run's pieces on the cluster: their futures, the worker each running one was sent to, the strokes
-    gathered in this process and each living frame's judging bands."""
+    gathered in this process and each living frame's judging bands; ``shared``: the threads it shares with other
+    runs (None: its own)."""
 
-    def __init__(self, client, run: Run, start: int, folder):
+    def __init__(self, client, run: Run, start: int, folder, shared: SharedThreads = None):
         self.client, self.run, self.start, self.folder = client, run, start, folder
+        self.shared = SharedThreads() if shared is None else shared
         self.pieces = run.pieces(folder.folder, analyse_ahead=True)
         self.count = len(run.frames.paths)
         self.token = secrets.token_hex(4)
         self.futures: Dict[PieceKey, object] = {}
         self.running: Dict[object, str] = {}      # future: the worker it was sent to
         self.strokes: Dict[int, object] = {}
+        self.gathering: Dict[int, object] = {}     # frame: the future of its ``lived_strokes``
         self.bands: Dict[int, List[Rows]] = {}     # frame: the rows of its JUDGE pieces, once its carry is made
         self.threads: Dict[str, int] = {}
         self.checked: Set[str] = set()          # the workers known to see the frames and the output folder
 
     def paint(self, report: dict, progress: ProgressFn, cancel: CancelFn) -> None:
         """Run pieces and commit frames in order until every frame is committed."""
+        self.shared.join(self)
+        try:
+            self.paint_frames(report, progress, cancel)
+        finally:
+            self.shared.leave(self)
+
+    def paint_frames(self, report: dict, progress: ProgressFn, cancel: CancelFn) -> None:
+        """``paint``'s loop."""
         distributed = import_distributed()
         self.threads = self.client.nthreads()
         self.check_new_workers()
@@ -96,15 +117,17 @@ class ClusterRun:
             if cancel is not None and cancel():
                 raise Cancelled("The run was cancelled.")
             self.dispatch(committed, living)
-            if not self.running:
+            running = self.shared.futures()
+            if not running:
                 time.sleep(WAIT_SECONDS)
                 continue
             try:
-                distributed.wait(list(self.running), timeout=WAIT_SECONDS, return_when="FIRST_COMPLETED")
+                distributed.wait(running, timeout=WAIT_SECONDS, return_when="FIRST_COMPLETED")
             except TimeoutError:
-                continue
+                pass
             for future in [f for f in self.running if f.done()]:
                 worker = self.running.pop(future)
+                self.shared.finished(future)
                 if future.status != "finished":
                     raise_error(future, f"in the piece {future.key} (sent to {worker})")
             living = self.lived(living)
@@ -119,8 +142,18 @@ class ClusterRun:
         if self.made(PieceKey(PieceKind.CARRY, living)) and living not in self.bands:
             step = self.futures[PieceKey(PieceKind.CARRY, living)].result()
             self.bands[living] = judging_bands(step, self.run.shot.shape[0], band_count(self.threads))
-        if self.made(PieceKey(PieceKind.BIRTH, living)):
-            self.strokes[living] = self.futures[PieceKey(PieceKind.BIRTH, living)].result()
+        if self.made(PieceKey(PieceKind.BIRTH, living)) and living not in self.gathering:
+            birth = self.futures[PieceKey(PieceKind.BIRTH, living)]
+            holders = list(self.client.who_has([birth]).values())
+            worker = holders[0][0] if holders and holders[0] else None
+            future = self.client.submit(lived_strokes, birth, key=f"paint-relief-lived-"
+                                        f"{self.run.frames.numbers[living]}-{self.token}", pure=False,
+                                        workers=worker and [worker], allow_other_workers=True)
+            self.gathering[living] = future
+            self.running[future] = worker
+            self.shared.started(self, future, worker)
+        if living in self.gathering and self.gathering[living].done():
+            self.strokes[living] = self.gathering.pop(living).result()
             return living + 1
         return living
 
@@ -135,9 +168,10 @@ class ClusterRun:
         self.check_new_workers()
         ahead = frames_ahead(committed, self.count, self.threads)
         for key in list(urgent(self.board(), committed, living, ahead)):
-            if not free_workers(self.threads, self.running.values()):
+            if not self.shared.may_start(self, self.threads):
                 return
             self.submit(key)
+        self.shared.satisfied(self)
 
     def check_new_workers(self) -> None:
         """Check that the workers not checked yet (every worker at the start, then any that joins) can read the
@@ -157,12 +191,13 @@ class ClusterRun:
         args = cluster_arguments(piece, self.futures, self.strokes, self.run.shot, self.run.frames.paths)
         inputs = [a for a in args if hasattr(a, "key")]
         holders = self.client.who_has(inputs).values() if inputs else ()
-        worker = place(free_workers(self.threads, self.running.values()), self.threads, holders)
+        worker = place(self.shared.free(self.threads), self.threads, holders)
         name = f"paint-relief-{key.kind.value}{key.band if key.kind is PieceKind.JUDGE else ''}"
         future = self.client.submit(piece.make, *args, key=f"{name}-{self.run.frames.numbers[key.index]}-{self.token}",
                                     pure=False, workers=worker and [worker], allow_other_workers=True)
         self.futures[key] = future
         self.running[future] = worker
+        self.shared.started(self, future, worker)
 
     def commit(self, index: int, report: dict) -> None:
         """Commit frame ``index`` (``Run.commit``) and let go of what only it and the frame before needed."""
