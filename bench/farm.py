@@ -24,7 +24,8 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    commits frames one at a time, so these run in frame order whatever the
    cluster's size; the judging canvas's bands run side by side between them.
 3. A projection of a 250-frame shot (``--projected-frames``) onto 1, 8 and 32
-   machines of 2 single-threaded workers each, from the measured piece
+   machines of 2 single-threaded workers each (and of 1, 4 and 16 such shots
+   painted at once by `core batch`), from the measured piece
    times: max(chain, work / threads) + fill + drain, where chain = the
    first frame's life + 249 x (carry + judging + birth + commit), judging
    on T threads being the longest of the min(T, 8) bands the driver cuts
@@ -74,6 +75,7 @@ from core import tuning
 from core.cli import build_parser, params_from_args
 from core.farm.frame_file import cluster_arguments
 from core.farm.scheduling import MAX_BANDS
+from core.farm.sequence import lived_strokes
 from core.files.frames import find_frames
 from core.files.staging import output_folder
 from core.heap import reused_heap
@@ -89,21 +91,23 @@ PIECES = tuple(kind.value for kind in PieceKind) + ("commit",)
 WORKER_PIECES = PIECES[:-1]
 CHAIN_PIECES = ("carry", "birth", "commit")     # in frame order; "judge" runs in bands side by side between them
 MACHINES = (1, 8, 32)
+SHOTS = (1, 4, 16)
 THREADS_PER_MACHINE = 2
 PROJECTED_FRAMES = 250
 COMPARED_SUFFIXES = (".png", ".exr", ".lives")
 SPEEDUP_WORKERS = (1, 2, 0)     # --workers 1, --workers 2, and 0: no --workers (one process, no Dask)
 
 # The inputs each piece of frame t > 0 is sent (piece, result it needs), and the results sent to the client: the
-# volume per frame when every one crosses the network. Frame t-1's strokes travel with frame t's life from the
-# client; frame t-1's frame shown goes to frame t's writing.
-SENT = (("carry", "birth"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"), ("judge", "carry"),
-        ("birth", "birth"), ("birth", "prepare"), ("birth", "motion"), ("birth", "carry"), ("birth", "judge"),
-        ("client", "birth"), ("shown", "birth"), ("write", "birth"), ("write", "shown"), ("write", "shown"),
+# volume per frame when every one crosses the network. Frame t-1's strokes ("lived": its BIRTH result without the
+# canvas its births were laid on) come to the client and travel with frame t's life; frame t-1's frame shown goes
+# to frame t's writing.
+SENT = (("carry", "lived"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"), ("judge", "carry"),
+        ("birth", "lived"), ("birth", "prepare"), ("birth", "motion"), ("birth", "carry"), ("birth", "judge"),
+        ("client", "lived"), ("shown", "birth"), ("write", "birth"), ("write", "shown"), ("write", "shown"),
         ("write", "motion"), ("client", "write"))
-CHAIN_SENT = (("carry", "birth"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"),
-              ("judge", "carry"), ("birth", "birth"), ("birth", "prepare"), ("birth", "motion"),
-              ("birth", "carry"), ("birth", "judge"), ("client", "birth"))
+CHAIN_SENT = (("carry", "lived"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"),
+              ("judge", "carry"), ("birth", "lived"), ("birth", "prepare"), ("birth", "motion"),
+              ("birth", "carry"), ("birth", "judge"), ("client", "lived"))
 
 
 @contextlib.contextmanager
@@ -219,13 +223,15 @@ def band_seconds(pieces, index: int, made: dict, lived: dict, run: Run) -> dict:
 
 
 def frame_results(made: dict, index: int) -> Dict[str, object]:
-    """{piece kind: its result (a list of them for the JUDGE bands)} of frame ``index``'s pieces in ``made``."""
+    """{piece kind: its result (a list of them for the JUDGE bands)} of frame ``index``'s pieces in ``made``, and
+    "lived": what of its BIRTH result comes back to the client (``farm.sequence.lived_strokes``)."""
     results: Dict[str, object] = {}
     for key, value in made.items():
         if key.index == index and key.kind is PieceKind.JUDGE:
             results.setdefault(key.kind.value, []).append(value)
         elif key.index == index:
             results[key.kind.value] = value
+    results["lived"] = lived_strokes(results["birth"])
     return results
 
 
@@ -437,6 +443,13 @@ def print_projection(first, later, later_bytes, frames: int, gbps: float) -> Non
               f"{net['total']:>18.0f}")
     print(f"one thread (every piece in turn, no commit): {alone:.0f} s; the chain allows at most "
           f"{alone / projection(first, later, frames, 10**6)['total']:.1f} times that speed on any cluster")
+    print(f"many shots at once (`core batch`): each shot's chain is its own, so S shots of {frames} frames take "
+          f"max(chain, S x work / threads) + fill + drain; frames a second as a multiple of one shot on one machine")
+    print(f"{'machines':>8} " + " ".join(f"{f'{shots} shot' + ('s' if shots > 1 else ''):>9}" for shots in SHOTS))
+    for machines in MACHINES:
+        p = projection(first, later, frames, machines * THREADS_PER_MACHINE)
+        rates = [shots * frames / (max(p["chain"], shots * p["work"]) + p["fill"] + p["drain"]) for shots in SHOTS]
+        print(f"{machines:>8} " + " ".join(f"{rate * one / frames:>9.1f}" for rate in rates))
 
 
 def print_speedup(measured: dict, clip: str, runs: int) -> None:
