@@ -117,14 +117,14 @@ class ClusterRun:
             if cancel is not None and cancel():
                 raise Cancelled("The run was cancelled.")
             self.dispatch(committed, living)
-            running = self.shared.futures()
-            if not running:
+            running = self.shared.futures()     # every run's pieces not done yet: a thread one frees wakes all
+            if running:
+                try:
+                    distributed.wait(running, timeout=WAIT_SECONDS, return_when="FIRST_COMPLETED")
+                except TimeoutError:
+                    pass
+            elif not any(future.done() for future in self.running):
                 time.sleep(WAIT_SECONDS)
-                continue
-            try:
-                distributed.wait(running, timeout=WAIT_SECONDS, return_when="FIRST_COMPLETED")
-            except TimeoutError:
-                pass
             for future in [f for f in self.running if f.done()]:
                 worker = self.running.pop(future)
                 self.shared.finished(future)
