@@ -145,7 +145,7 @@ def paint_alone(frames: Frames, work: Path, seed: int, runs: int) -> dict:
         root = work / f"run_{r + 1}"
         folders = [Path(folder) for folder in painting_folders(str(root), [str(p) for p in frames.paths])]
         seconds, peak = run_child([sys.executable, "-m", "core", "batch", *frames.paths, "-o", root, "--seed", seed,
-                                   "-q"], "core batch of the frames")
+                                   "-q"], "core batch of the frames", quiet=True)
         walls.append(seconds)
         peaks.append(peak)
     strokes = [json.loads((folder / "report.json").read_text())["strokes"] for folder in folders]

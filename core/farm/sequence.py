@@ -19,11 +19,11 @@ free worker that holds most of its inputs. Several shots painted at once
 
 A frame's strokes come back to this process (without the canvas its births
 were laid on, which only its SHOWN piece needs: ``lived_strokes``) and
-travel with the next frame's life tasks (``frame_file.cluster_arguments``), so the life never
-depends on data held by one worker alone: a lost worker's tasks run again
-elsewhere from their own arguments, and the bytes are those of one process.
-A task that runs twice writes two staging folders; one is committed and the
-other removed at the end.
+travel with the next frame's life tasks (``frame_file.cluster_arguments``),
+so the life never depends on data held by one worker alone: a lost
+worker's tasks run again elsewhere from their own arguments, and the bytes
+are those of one process. A task that runs twice writes two staging
+folders; one is committed and the other removed at the end.
 """
 
 from __future__ import annotations
