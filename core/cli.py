@@ -503,9 +503,14 @@ def _folder_phrase(args: argparse.Namespace) -> str:
 
 def _interrupted_message(exc: "signals.Interrupted", args: argparse.Namespace) -> str:
     """A true sentence about what a signal left behind."""
+    from .api import is_shot
+
     if args.command == "sequence":
         return (f"Stopped by {exc.name}; every frame in {args.output} is complete, and the same command goes on "
                 f"after the last of them.")
+    if args.command == "batch" and any(is_shot(source) for source in args.input):
+        return (f"Stopped by {exc.name}; the stills and frames painted stay in {args.output}, each complete, and "
+                f"`core sequence SHOT -o FOLDER` goes on with a shot after the last of its frames.")
     if args.command == "batch":
         return f"Stopped by {exc.name}; the stills painted stay in {args.output}, each folder complete."
     if exc.committed:

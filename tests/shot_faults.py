@@ -1383,6 +1383,23 @@ def _(place):
         assert folder_bytes(out / name) == folder_bytes(place.stills / name), name
 
 
+@case("farm", "SIGTERM of a batch of two shots painted at once", True)
+def _(place):
+    need_dask()
+    out = place.folder() / "out"
+    first = out / f"{Path(place.frames).name}_001"
+    process = started(["batch", place.frames, place.frames, "-o", out, "-q", "--seed", SEED, "--workers", "2"])
+    stop_when(process, lambda: (first / "report.json").exists(), lambda: process.send_signal(signal.SIGTERM))
+    run = finish(process)
+    if run.returncode != 0:
+        lines = [line for line in run.stderr.splitlines() if line.strip()]
+        assert run.returncode == 128 + signal.SIGTERM, (run.returncode, run.stderr)
+        assert len(lines) == 1 and "core sequence" in lines[0] and not problem_lines(run.stderr), run.stderr
+    for folder in (first, out / f"{Path(place.frames).name}_002"):
+        complete(folder)
+        goes_on(place, [place.frames], folder)
+
+
 # --- running the catalogue -----------------------------------------------------------------------------------------
 
 def run_case(place: Place, one: Case) -> None:
