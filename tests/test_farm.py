@@ -53,10 +53,12 @@ def footage(tmp_path_factory):
 
 
 def once_done(count: int, action, happened: list):
-    """A progress callback that calls ``action()`` once, when ``count`` frames (or stills) are done, and appends
-    the progress message to ``happened``."""
+    """A progress callback that calls ``action()`` once, when at least ``count`` frames (or stills) are done (the
+    message "k/n ..." with k >= count: two stills may finish between two looks), and appends the progress message
+    to ``happened``."""
     def progress(fraction, message):
-        if not happened and message.startswith(f"{count}/"):
+        done = message.split("/", 1)[0]
+        if not happened and done.isdigit() and int(done) >= count:
             action()
             happened.append(message)
     return progress
