@@ -1,0 +1,219 @@
+"""A mesh's texture painted in its UV space, island by island, with strokes of one size in the world (ALGORITHM §10).
+
+Each island is painted as a canvas of its own. Its box in the texture,
+widened by its largest stroke and the bleed, is cut out, and every texel of
+the box outside the island takes the colour of the nearest island texel, so
+the importance, the partition and the orientation see no border. Strokes
+are anchored only on the island's texels, as a shot's births are anchored
+only where they may happen. Only the island's texels are kept from its
+canvas, so no stroke's paint reaches another island. The stroke sizes are
+given in millimetres on the surface and turned into texels by the island's
+texel density. Once every island is painted, the maps bleed ``bleed_texels``
+past the islands' borders. Beyond the bleed the opacity and height are 0 and
+the colour is the canvas colour. The reference's bilateral filter spans as
+many millimetres on every island as it spans texels on the texture's median
+texel.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
+
+import numpy as np
+from scipy import ndimage
+
+from ..analysis.run import analyze, check_image
+from ..errors import InputError
+from ..measures import psnr
+from ..methods.huang11 import paint_details, paint_layers
+from ..params import Params, scaled_sizes
+from ..progress import CancelFn, ProgressFn, Stage
+from ..results import Painting
+from ..strokes.brush import load_brush, tip_cache
+from ..strokes.canvas import Canvas
+from ..strokes.stroke import Stroke, colour_sources
+from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels
+
+
+class SurfaceLayout(NamedTuple):
+    """Where a texture lies on a mesh: its island map and the islands' texel densities."""
+
+    islands: np.ndarray         # (N, N) int32, 0 (no surface) or the island 1 .. K of each texel
+    density: TexelDensity       # the islands' metres per UV unit (``islands.texel_density``)
+
+
+def texel_mm(layout: SurfaceLayout) -> np.ndarray:
+    """(K,) float64 mm: how much of island k + 1's surface one texel spans, 1000 ρ_k / N."""
+    return 1000.0 * layout.density.island / layout.islands.shape[0]
+
+
+def median_texel_mm(layout: SurfaceLayout) -> float:
+    """mm: the texel size (``texel_mm``) of the texture's median texel, counting the texels each island covers."""
+    islands = layout.islands
+    counts = np.bincount(islands[islands != NO_ISLAND], minlength=len(layout.density.island) + 1)[1:]
+    spans = texel_mm(layout)
+    order = np.argsort(spans, kind="stable")
+    weights = np.cumsum(counts[order])
+    return float(spans[order][int(np.searchsorted(weights, 0.5 * weights[-1]))])
+
+
+def default_stroke_mm(params: Params, layout: SurfaceLayout) -> Tuple[float, ...]:
+    """The stroke widths (mm, descending) a texture is painted with unless told: the still's widths for an N x N
+    picture (``scaled_sizes``) at the median texel's size (``median_texel_mm``)."""
+    median = median_texel_mm(layout)
+    return tuple(float(size * median) for size in scaled_sizes(params, *layout.islands.shape))
+
+
+def island_sizes(stroke_mm: Sequence[float], island_texel_mm: float) -> Tuple[int, ...]:
+    """The stroke widths (texels, descending, distinct, >= 2) of an island whose texel spans ``island_texel_mm``."""
+    return tuple(sorted({max(2, int(round(size / island_texel_mm))) for size in stroke_mm}, reverse=True))
+
+
+class IslandPainting(NamedTuple):
+    """One island painted on a canvas of its own: its box in the texture and what was laid there."""
+
+    rows: slice
+    cols: slice
+    mask: np.ndarray            # (h, w) bool, the island's texels in the box
+    canvas: Canvas
+    orientation: np.ndarray     # (h, w) radians [0, pi)
+    strokes: List[Stroke]       # in the texture's texel coordinates
+    per_layer: List[int]
+    sizes: Tuple[int, ...]      # its stroke widths (texels)
+
+
+def island_box(mask: np.ndarray, margin: int) -> Tuple[slice, slice]:
+    """The rows and columns of the box around ``mask`` (H, W) bool's True texels, widened by ``margin`` texels
+    (within the texture)."""
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    h, w = mask.shape
+    return (slice(max(0, rows[0] - margin), min(h, rows[-1] + 1 + margin)),
+            slice(max(0, cols[0] - margin), min(w, cols[-1] + 1 + margin)))
+
+
+def extended(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """(h, w, 3) ``image`` with every texel outside ``mask`` (h, w) bool given the colour of the nearest texel
+    inside it (the exact Euclidean distance transform)."""
+    if mask.all():
+        return image.copy()
+    _, (rows, cols) = ndimage.distance_transform_edt(~mask, return_indices=True)
+    return np.ascontiguousarray(image[rows, cols])
+
+
+def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: Tuple[int, ...],
+                 smoothing: float, params: Params, stage: Stage) -> IslandPainting:
+    """Island ``island`` of the (N, N) ``islands`` map painted from (N, N, 3) sRGB [0, 1] ``texture`` with
+    strokes of ``sizes`` texels and the reference's bilateral filter ``smoothing`` texels wide (module
+    docstring)."""
+    rows, cols = island_box(islands == island, max(sizes) + int(np.ceil(bleed_texels(islands.shape[0]))))
+    mask = islands[rows, cols] == island
+    image = extended(texture[rows, cols], mask)
+    h, w = mask.shape
+    own = dataclasses.replace(params, stroke_sizes=sizes, size_reference_megapixels=h * w / 1e6,
+                              bilateral_sigma_spatial=smoothing / float(np.hypot(h, w)))
+    analysis = analyze(image, own, cancel=stage.cancel)
+    canvas = Canvas.blank((h, w), params.canvas_colour)
+    tips = tip_cache(load_brush(params.brush), analysis.sizes, params.transparency)
+    sources = colour_sources(analysis.reference, analysis.sizes, own)
+    strokes, per_layer = paint_layers(canvas, analysis, tips, sources, own,
+                                      stage.sub(0.0, 0.9 if params.detail_pass else 1.0), None, mask)
+    if params.detail_pass:
+        details = paint_details(canvas, image, analysis, sources, own, len(per_layer), stage.sub(0.9, 1.0), None,
+                                mask)
+        strokes += details
+        per_layer.append(len(details))
+    shift = np.array([cols.start, rows.start], np.float32)
+    placed = [Stroke(s.layer, (s.anchor[0] + cols.start, s.anchor[1] + rows.start), s.size, s.path + shift,
+                     s.colour) for s in strokes]
+    return IslandPainting(rows, cols, mask, canvas, analysis.orientation, placed, per_layer, tuple(analysis.sizes))
+
+
+def check_layout(texture: np.ndarray, layout: SurfaceLayout) -> None:
+    """InputError (one sentence) when the ``texture`` and the ``layout``'s island map do not fit together."""
+    if layout.islands.shape != texture.shape[:2] or texture.shape[0] != texture.shape[1]:
+        raise InputError(f"The texture is {texture.shape[1]} x {texture.shape[0]} texels and its island map "
+                         f"{layout.islands.shape[1]} x {layout.islands.shape[0]}: both must be the same square.")
+    if not (layout.islands != NO_ISLAND).any():
+        raise InputError("No face of the mesh covers a texel of the texture: its UV map is empty or lies outside "
+                         "the square 0..1.")
+
+
+def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
+                  stroke_mm: Optional[Sequence[float]] = None, progress: ProgressFn = None,
+                  cancel: CancelFn = None) -> Painting:
+    """Paint the (N, N, 3) sRGB [0, 1] ``texture`` of a mesh laid out as ``layout`` says, island by island, with
+    strokes ``stroke_mm`` wide on the surface (``default_stroke_mm`` when None). The Painting's maps are the
+    texture's (N, N); its ``analysis`` is None (each island has its own); its statistics add "islands", each
+    island's figures (``island_figures``), and "stroke_mm"."""
+    params.validate()
+    texture = check_image(texture)
+    check_layout(texture, layout)
+    stage = Stage(progress, cancel)
+    clock = time.perf_counter()
+    stroke_mm = tuple(default_stroke_mm(params, layout) if stroke_mm is None else stroke_mm)
+    spans = texel_mm(layout)
+    size = texture.shape[0]
+    smoothing_mm = params.bilateral_sigma_spatial * size * np.sqrt(2.0) * median_texel_mm(layout)
+    colour = np.empty((size, size, 3), np.float32)
+    colour[:] = np.asarray(params.canvas_colour, np.float32)
+    height, opacity, coverage, orientation = (np.zeros((size, size), np.float32) for _ in range(4))
+    present = np.unique(layout.islands[layout.islands != NO_ISLAND]).tolist()
+    painted: Dict[int, IslandPainting] = {}
+    for position, island in enumerate(present):
+        part = paint_island(texture, layout.islands, island, island_sizes(stroke_mm, spans[island - 1]),
+                            smoothing_mm / spans[island - 1], params,
+                            stage.sub(position / len(present), (position + 1) / len(present)))
+        for target, values in ((colour, part.canvas.colour), (height, part.canvas.height),
+                               (opacity, part.canvas.opacity), (coverage, part.canvas.coverage),
+                               (orientation, part.orientation)):
+            target[part.rows, part.cols][part.mask] = values[part.mask]
+        painted[island] = part
+        stage.report((position + 1) / len(present), f"Island {position + 1}/{len(present)} painted")
+    reach = bleed_texels(size)
+    colour, height, opacity, coverage, orientation = (bled(values, layout.islands, reach) for values in
+                                                       (colour, height, opacity, coverage, orientation))
+    np.clip(colour, 0.0, 1.0, out=colour)
+    strokes = [stroke for island in present for stroke in painted[island].strokes]
+    return Painting(colour, height, opacity, coverage, orientation, strokes, None, params,
+                    texture_statistics(texture, colour, layout, painted, stroke_mm, params,
+                                       time.perf_counter() - clock))
+
+
+def texture_statistics(texture: np.ndarray, colour: np.ndarray, layout: SurfaceLayout,
+                       painted: Dict[int, IslandPainting], stroke_mm: Sequence[float], params: Params,
+                       seconds: float) -> dict:
+    """The report's figures of a painted texture: strokes, the PSNR over the islands' texels, and each island's
+    figures (``island_figures``)."""
+    surface = layout.islands != NO_ISLAND
+    layers = max(len(part.per_layer) for part in painted.values())
+    per_layer = [sum(part.per_layer[k] for part in painted.values() if k < len(part.per_layer))
+                 for k in range(layers)]
+    return {"strokes": int(sum(per_layer)), "strokes_per_layer": per_layer,
+            "psnr_db": round(psnr(colour[surface], texture[surface]), 3),
+            "seconds": {"painting": round(seconds, 4)}, "width": int(texture.shape[1]),
+            "height": int(texture.shape[0]), "seed": params.seed, "stroke_mm": [round(s, 3) for s in stroke_mm],
+            "bleed_texels": bleed_texels(texture.shape[0]),
+            "islands": [island_figures(island, part, layout) for island, part in painted.items()]}
+
+
+def island_figures(island: int, part: IslandPainting, layout: SurfaceLayout) -> dict:
+    """Island ``island``'s figures: texels, texel density (m per UV unit) and texel size (mm), how far its faces'
+    densities stray from it, its stroke widths (texels) and its strokes' widths in mm (median and quartiles, all
+    and per layer)."""
+    span = float(texel_mm(layout)[island - 1])
+    widths = np.array([stroke.size for stroke in part.strokes], float) * span
+    layers = np.array([stroke.layer for stroke in part.strokes], int)
+
+    def spread(values: np.ndarray) -> Optional[List[float]]:
+        return None if len(values) == 0 else [round(float(v), 3) for v in np.percentile(values, [25, 50, 75])]
+
+    return {"island": island, "texels": int(part.mask.sum()),
+            "density_m_per_uv": round(float(layout.density.island[island - 1]), 6), "texel_mm": round(span, 4),
+            "face_density_stray": round(float(layout.density.stray[island - 1]), 4),
+            "sizes_texels": list(part.sizes), "strokes": len(part.strokes),
+            "stroke_mm_quartiles": spread(widths),
+            "stroke_mm_median_per_layer": [None if not np.any(layers == k) else
+                                           round(float(np.median(widths[layers == k])), 3)
+                                           for k in range(len(part.per_layer))]}
