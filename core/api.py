@@ -217,6 +217,53 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
     return reports
 
 
+TEXTURE_SIZES = (64, 16384)
+"""The smallest and largest texture (texels a side) ``paint_object`` paints."""
+
+
+def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: Optional[int] = None,
+                 stroke_mm=None, progress: ProgressFn = None, cancel: CancelFn = None,
+                 max_memory: Optional[int] = None, normal_map: bool = False) -> dict:
+    """Paint the texture ``texture_path`` of ``mesh`` in its UV space (ALGORITHM §10) and write every output into
+    ``output_dir``, as ``paint_file`` writes a still's; return the report.
+
+    mesh: a ``core.surface.mesh.SurfaceMesh`` (Blender's loop triangles) or the path of a Wavefront OBJ file.
+    texture_size: the painted texture's side in texels (default: the source's longer side, within
+    ``TEXTURE_SIZES``); the source is resampled to that square. stroke_mm: the stroke widths in mm on the surface (default:
+    ``texture.default_stroke_mm``). The maps are the texture's; report.json adds "islands" (each island's texel
+    density and stroke widths in mm), "stroke_mm" and "bleed_texels". Checks, locking, all-or-nothing and
+    one-sentence failures as ``paint_file``.
+    """
+    from .files.export import NORMAL_FILE, PAINTING_FILES, write_painting
+    from .surface.mesh import SurfaceMesh, check_mesh, read_obj
+    from .surface.texture import paint_texture, square_texture, surface_layout
+
+    params.validate()
+    width, height, _ = reading.probe(texture_path, params.max_megapixels)
+    budget.check_bomb(texture_path, width, height)
+    low, high = TEXTURE_SIZES
+    size = min(max(width, height, low), high) if texture_size is None else texture_size
+    if not (isinstance(size, int) and not isinstance(size, bool) and low <= size <= high):
+        raise ParameterError(f"The texture size must be a whole number of texels from {low} to {high}, got {size}.")
+    if stroke_mm is not None and not (len(stroke_mm) and all(0 < float(w) < 1e6 for w in stroke_mm)):
+        raise ParameterError(f"Stroke widths must be positive millimetres, got {list(stroke_mm)}.")
+    surface = (check_mesh(mesh, "given") if isinstance(mesh, SurfaceMesh) else read_obj(mesh))
+    budget.check(texture_path, size, size, params.layers, max_memory=max_memory)
+    budget.check_space(output_dir, texture_path, size, size, normal_map)
+    try:
+        with output_folder(output_dir) as folder:
+            folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()))
+            image = reading.read_image(texture_path, params.max_megapixels, params.canvas_colour)
+            painting = paint_texture(square_texture(image, size), surface_layout(surface, size), params, stroke_mm,
+                                     progress, cancel)
+            with folder.staged() as staging:
+                report = write_painting(staging, painting, str(texture_path), normal_map)
+    except MemoryError:
+        raise out_of_memory(texture_path) from None
+    report["output_dir"] = str(Path(output_dir).resolve())
+    return report
+
+
 @contextlib.contextmanager
 def connected_farm(farm):
     """A Dask client of ``farm`` (a ``core.farm.cluster.Farm``) for the block, or None without one."""

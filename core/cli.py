@@ -166,6 +166,7 @@ def build_parser() -> argparse.ArgumentParser:
     paint_p.set_defaults(run=run_paint)
     _add_sequence_parser(sub)
     _add_batch_parser(sub)
+    _add_object_parser(sub)
     _add_light_parser(sub)
     _add_experiments_parser(sub)
     return parser
@@ -289,6 +290,51 @@ def run_batch(args: argparse.Namespace, progress) -> None:
         progress.close()
     for source, report in zip(args.input, reports, strict=True):
         print(f"{source} -> {report['output_dir']}")
+
+
+def _widths(text: str) -> tuple:
+    """Stroke widths in millimetres: positive numbers separated by commas."""
+    try:
+        widths = tuple(float(s) for s in text.split(",") if s.strip())
+    except ValueError:
+        widths = ()
+    if not widths or not all(0 < w < 1e6 for w in widths):
+        raise argparse.ArgumentTypeError(f"widths must be positive millimetres separated by commas, got {text[:40]!r}")
+    return widths
+
+
+def _add_object_parser(sub) -> None:
+    """The ``object`` subcommand's options."""
+    p = sub.add_parser(
+        "object", help="paint a mesh's texture in its UV space, strokes of one size on the surface",
+        description="Paint TEXTURE, the texture of the mesh MESH (a Wavefront OBJ file with texture coordinates, "
+                    "positions in metres), island by island in its UV space: each UV island from its own texels, "
+                    "strokes as wide in millimetres on every island. Writes the maps a still has, in UV space, and "
+                    "report.json with each island's texel density and stroke widths.")
+    p.add_argument("texture", metavar="TEXTURE", help="the texture to paint (PNG, JPEG, TIFF, EXR, ...)")
+    p.add_argument("--mesh", required=True, metavar="MESH.obj", help="the mesh whose UV map the texture follows")
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
+                   help="folder for the outputs (created if missing)")
+    p.add_argument("--texture-size", type=_int, default=None, metavar="N",
+                   help="paint an N x N texture (default: the source's longer side)")
+    p.add_argument("--stroke-mm", type=_widths, default=None, metavar="32,16,8",
+                   help="stroke widths in millimetres on the surface (default: the still's widths for the texture "
+                        "at its median texel's size)")
+    p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
+                   help="0..1, how finely detailed areas are split (default: %(default)s)")
+    _add_stroke_options(p)
+    _add_run_options(p)
+    p.set_defaults(run=run_object, sizes=DEFAULTS.stroke_sizes)
+
+
+def run_object(args: argparse.Namespace, progress) -> None:
+    """The ``object`` subcommand."""
+    from .api import paint_object
+    from .heap import reused_heap
+
+    with reused_heap():
+        paint_object(args.texture, args.mesh, args.output, params_from_args(args), args.texture_size,
+                     args.stroke_mm, progress=progress, max_memory=max_memory(args), normal_map=args.normal_map)
 
 
 def _add_farm_options(p) -> None:

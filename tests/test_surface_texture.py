@@ -88,3 +88,46 @@ def test_a_texture_and_an_island_map_that_do_not_fit_are_one_sentence():
     empty = SurfaceLayout(np.zeros((SIZE, SIZE), np.int32), layout.density)
     with pytest.raises(InputError, match="No face of the mesh covers a texel"):
         paint_texture(texture(1), empty, Params())
+
+
+def photograph_on_two_squares(size: int):
+    """A photograph laid on the surface at one scale (1 m across) and a texture of two islands showing it: island
+    1 a 0.6 m square over UV 0.02..0.62, island 2 a 1.2 m square over UV 0.66..0.96, whose texels span 4x as much
+    surface. Returns (texture, layout)."""
+    from pathlib import Path
+
+    from scipy import ndimage
+    from test_islands import quad
+
+    from core.files.reading import read_image
+    from core.surface.mesh import SurfaceMesh
+    from core.surface.texture import surface_layout
+
+    photo = read_image(Path(__file__).resolve().parents[1] / "sample_scenes" / "chelsea.png")
+    per_metre = photo.shape[1]
+    rows, cols = np.mgrid[0:size, 0:size]
+    u, v = (cols + 0.5) / size, 1.0 - (rows + 0.5) / size
+    picture = np.zeros((size, size, 3), np.float32)
+    uvs, positions = [], []
+    for low, high, metres in ((0.02, 0.62, 0.6), (0.66, 0.96, 1.2)):
+        uv, position = quad((low, low), (high, high), world_size=metres)
+        uvs.append(uv)
+        positions.append(position)
+        inside = (u >= low) & (u <= high) & (v >= low) & (v <= high)
+        x, y = (u[inside] - low) / (high - low) * metres, (v[inside] - low) / (high - low) * metres
+        for channel in range(3):
+            picture[..., channel][inside] = ndimage.map_coordinates(photo[..., channel],
+                                                                    [(1.0 - y) * per_metre, x * per_metre],
+                                                                    order=1, mode="reflect")
+    return picture, surface_layout(SurfaceMesh(np.concatenate(uvs), np.concatenate(positions)), size)
+
+
+def test_islands_whose_texels_differ_4x_paint_each_layer_at_one_median_width_in_millimetres():
+    """At 2048 texels the coarse island's texels are 1.95 mm, fine enough for the still's widths (docs/objects.md:
+    at 1024 its finest strokes, 2 texels, are twice the dense island's)."""
+    picture, layout = photograph_on_two_squares(2048)
+    assert np.allclose(texel_mm(layout)[1] / texel_mm(layout)[0], 4.0)
+    first, second = paint_texture(picture, layout, Params(seed=3)).statistics["islands"]
+    for dense, coarse in zip(first["stroke_mm_median_per_layer"][:4], second["stroke_mm_median_per_layer"][:4],
+                             strict=True):
+        assert abs(coarse / dense - 1.0) <= 0.25, (first, second)

@@ -34,7 +34,8 @@ from ..results import Painting
 from ..strokes.brush import load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.stroke import Stroke, colour_sources
-from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels
+from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
+from .mesh import SurfaceMesh
 
 
 class SurfaceLayout(NamedTuple):
@@ -42,6 +43,29 @@ class SurfaceLayout(NamedTuple):
 
     islands: np.ndarray         # (N, N) int32, 0 (no surface) or the island 1 .. K of each texel
     density: TexelDensity       # the islands' metres per UV unit (``islands.texel_density``)
+
+
+def surface_layout(mesh: SurfaceMesh, size: int) -> SurfaceLayout:
+    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised and their densities."""
+    islands = uv_islands(mesh.uv)
+    return SurfaceLayout(island_map(mesh.uv, islands, size), texel_density(mesh.uv, mesh.position, islands))
+
+
+def square_texture(image: np.ndarray, size: int) -> np.ndarray:
+    """(H, W, 3) ``image`` resampled to (size, size, 3): averaged over each new texel's area where it shrinks,
+    bilinear where it grows (texel centres aligned)."""
+    from ..evaluation.film import resize_area
+
+    h, w = image.shape[:2]
+    if (h, w) == (size, size):
+        return image
+    if h >= size and w >= size:
+        return resize_area(image, size, size)
+    rows = (np.arange(size) + 0.5) * (h / size) - 0.5
+    cols = (np.arange(size) + 0.5) * (w / size) - 0.5
+    grid = np.meshgrid(rows, cols, indexing="ij")
+    return np.stack([ndimage.map_coordinates(image[..., c], grid, order=1, mode="nearest") for c in range(3)],
+                    axis=-1).astype(np.float32)
 
 
 def texel_mm(layout: SurfaceLayout) -> np.ndarray:
@@ -138,6 +162,12 @@ def check_layout(texture: np.ndarray, layout: SurfaceLayout) -> None:
     if not (layout.islands != NO_ISLAND).any():
         raise InputError("No face of the mesh covers a texel of the texture: its UV map is empty or lies outside "
                          "the square 0..1.")
+    present = np.unique(layout.islands[layout.islands != NO_ISLAND])
+    density = layout.density.island[present - 1]
+    if not (np.isfinite(density) & (density > 0)).all():
+        flat = int(present[~(np.isfinite(density) & (density > 0))][0])
+        raise InputError(f"UV island {flat} of the mesh has no area on the surface, so its strokes have no size: "
+                         f"remove its collapsed faces or unwrap them again.")
 
 
 def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
@@ -150,7 +180,6 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
     params.validate()
     texture = check_image(texture)
     check_layout(texture, layout)
-    stage = Stage(progress, cancel)
     clock = time.perf_counter()
     stroke_mm = tuple(default_stroke_mm(params, layout) if stroke_mm is None else stroke_mm)
     spans = texel_mm(layout)
@@ -162,15 +191,17 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
     present = np.unique(layout.islands[layout.islands != NO_ISLAND]).tolist()
     painted: Dict[int, IslandPainting] = {}
     for position, island in enumerate(present):
+        named = None if progress is None else (
+            lambda fraction, message, position=position: progress(
+                fraction, f"Island {position + 1}/{len(present)}: {message}"))
         part = paint_island(texture, layout.islands, island, island_sizes(stroke_mm, spans[island - 1]),
                             smoothing_mm / spans[island - 1], params,
-                            stage.sub(position / len(present), (position + 1) / len(present)))
+                            Stage(named, cancel, position / len(present), (position + 1) / len(present)))
         for target, values in ((colour, part.canvas.colour), (height, part.canvas.height),
                                (opacity, part.canvas.opacity), (coverage, part.canvas.coverage),
                                (orientation, part.orientation)):
             target[part.rows, part.cols][part.mask] = values[part.mask]
         painted[island] = part
-        stage.report((position + 1) / len(present), f"Island {position + 1}/{len(present)} painted")
     reach = bleed_texels(size)
     colour, height, opacity, coverage, orientation = (bled(values, layout.islands, reach) for values in
                                                        (colour, height, opacity, coverage, orientation))
