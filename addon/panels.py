@@ -132,6 +132,41 @@ class VIEW3D_PT_paint_relief_animation(_PaintReliefPanel, Panel):
         layout.operator("paint_relief.paint_animation", icon="RENDER_ANIMATION")
 
 
+class VIEW3D_PT_paint_relief_object(_PaintReliefPanel, Panel):
+    """Paint the active mesh's texture in its UV space, with the paint's relief on the object itself"""
+
+    bl_label = "Paint Object"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        from .objects import object_material, surface
+
+        layout = self._layout()
+        settings = context.scene.paint_relief
+        obj = context.active_object
+        problem = surface.mesh_problem(obj)
+        if problem is not None:
+            layout.label(text=problem, icon="ERROR")
+            if obj is not None and obj.type == "MESH" and obj.data.polygons:
+                layout.operator("paint_relief.smart_uv_project", icon="UV")
+        else:
+            image = surface.base_color_image(obj)
+            _note(layout, "Source: {}".format(
+                "Base Color image {}".format(image.name) if image is not None else
+                "texture file" if settings.object_texture_path else "bake of the diffuse colour"), icon="IMAGE_DATA")
+        _props(layout, settings, "object_texture_size", "object_texture_path", "object_stroke_mm",
+               "object_relief", "thickness_mm", "object_output_dir")
+        if not settings.object_output_dir and obj is not None:
+            _note(layout, os.path.join(properties.paintings_parent(context), values.folder_stem(obj.name) + "_NNN"))
+        layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
+        layout.operator("paint_relief.paint_object", icon="BRUSH_DATA")
+        if obj is not None and obj.get(object_material.PAINTED_KEY):
+            painted = object_material.shows_painting(obj)
+            layout.operator("paint_relief.object_painting", text="Show Original Material" if painted else
+                            "Show Painting", icon="MATERIAL").show = not painted
+
+
 class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
     """The canvas object: physical size, paint thickness and how the relief is made"""
 
@@ -184,6 +219,7 @@ classes = (
     VIEW3D_PT_paint_relief,
     VIEW3D_PT_paint_relief_paint,
     VIEW3D_PT_paint_relief_animation,
+    VIEW3D_PT_paint_relief_object,
     VIEW3D_PT_paint_relief_canvas,
     VIEW3D_PT_paint_relief_lighting,
     VIEW3D_PT_paint_relief_compare,

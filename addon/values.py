@@ -272,3 +272,34 @@ def is_inside(path, parent):
         return os.path.commonpath([path, parent]) == parent
     except ValueError:  # different drives
         return False
+
+
+TEXTURE_SIZES = (1024, 2048, 4096, 8192)
+"""The texture sizes (texels a side) Paint Object offers."""
+
+
+def relief_levels(faces, texture_size, most=6):
+    """Subdivision levels (0 .. ``most``) that give a mesh of ``faces`` faces about one vertex for every 4 x 4
+    texels of a ``texture_size`` texture, enough for the displaced relief to show each stroke."""
+    import math
+
+    wanted = (texture_size / 4.0) ** 2 / max(1, faces)
+    return max(0, min(most, int(round(math.log(max(wanted, 1.0), 4)))))
+
+
+def parse_widths(text):
+    """Stroke widths in millimetres such as ``"32, 16 8"`` as a tuple of positive floats, or None for an empty
+    text (the painter's default). Raises ValueError with a sentence naming the bad entry."""
+    parts = [p for p in text.replace(",", " ").split() if p]
+    if not parts:
+        return None
+    widths = []
+    for part in parts:
+        try:
+            value = float(part)
+        except ValueError:
+            raise ValueError("Stroke width {!r} is not a number of millimetres.".format(part)) from None
+        if not value > 0 or value != value or value == float("inf"):
+            raise ValueError("Stroke width {} must be a positive number of millimetres.".format(part))
+        widths.append(value)
+    return tuple(widths)

@@ -15,18 +15,13 @@ from tiny_shot import FIRST, FRAMES, shot
 import core
 from core.colour import linear_to_srgb
 from core.errors import InputError
-from core.evaluation.film import (
-    area_weights,
-    film_figures,
-    resize_area,
-    resize_motion,
-    run_film,
-)
+from core.evaluation.film import film_figures, resize_motion, run_film
 from core.evaluation.film_files import frame_file
 from core.files import reading, writing
 from core.lighting import paper_lighting
 from core.motion import optical_flow, visible_in_both, warping_error
 from core.motion.optical_flow import SEQUENCE_MEGAPIXELS
+from core.resample import area_weights, resize_area
 
 FILM_W, FILM_H = 64, 43  # the tiny shot's 96 x 64 with a longer side of 64 px
 

@@ -19,7 +19,7 @@ TOP_PACKAGES = ("core", "addon")
 # one. Within a package (one layer) the cycle test keeps the order. The base holds what every stage shares.
 CORE_LAYERS = [
     ("base", {"core.errors", "core.version", "core.params", "core.progress", "core.colour", "core.results",
-              "core.heap", "core.workers", "core.tuning", "core.lazy"}),
+              "core.heap", "core.workers", "core.tuning", "core.lazy", "core.resample"}),
     ("lighting", {"core.lighting"}),
     ("files", {"core.files"}),
     ("analysis", {"core.analysis"}),
@@ -29,6 +29,7 @@ CORE_LAYERS = [
     ("methods", {"core.methods"}),
     ("sequence", {"core.sequence"}),
     ("farm", {"core.farm"}),
+    ("surface", {"core.surface"}),
     ("figures", {"core.figures"}),
     ("api", {"core.api"}),
     ("evaluation", {"core.evaluation"}),
@@ -39,12 +40,14 @@ CORE_LAYERS = [
 # libraries, the long operators' modal skeleton, the command lines' helpers); the scene builders come next; the settings sit above them because their update callbacks change the
 # canvas and lights; the operators of painting and of the comparison read the settings; the relit film (film)
 # renders with the comparison's settings; the sidebar names them all;
-# the command line and the package's register/unregister are the entry points.
+# Paint Object (objects) takes the painter's settings of painting; the command line and the package's
+# register/unregister are the entry points.
 ADDON_LAYERS = [
     ("base", {"addon.values", "addon.dependencies", "addon.modal_job", "addon.command_line"}),
     ("scene", {"addon.scene"}),
     ("settings", {"addon.settings"}),
     ("painting", {"addon.painting"}),
+    ("objects", {"addon.objects"}),
     ("comparison", {"addon.comparison"}),
     ("film", {"addon.film"}),
     ("panels", {"addon.panels"}),

@@ -112,13 +112,14 @@ def update_material(material, images, thickness, connect_displacement):
     return True
 
 
-def build_material(material, images, thickness, connect_displacement, normal_map=False):
+def build_material(material, images, thickness, connect_displacement, normal_map=False, uv_map="UVMap"):
     """Fill ``material``'s node tree with the canvas shader; return the tree.
 
     thickness: metres of paint of height 1. connect_displacement: link the
     Displacement node to the material output (CYCLES_ADAPTIVE) or leave it
     unconnected (MESH, where the geometry is displaced already). normal_map:
-    shade with the painter's normal map (``images`` holds it then). Earlier
+    shade with the painter's normal map (``images`` holds it then), whose tangents follow the UV map ``uv_map``
+    (the one the maps are read through: Blender renders with it). Earlier
     Paint Relief nodes and Blender's default nodes are replaced; nodes the
     user added stay. The nodes made here carry OWN_NODE_KEY, and the ones
     :func:`update_material` needs are named NODE_PREFIX + role.
@@ -130,7 +131,7 @@ def build_material(material, images, thickness, connect_displacement, normal_map
     _roughness_from_opacity(tree, opacity, bsdf)
     bump = _fine_bump(tree, _paint_and_weave_height(tree, uv, height, opacity), thickness)
     if normal_map:
-        _normal_map(tree, uv, images[values.NORMAL_MAP], bump, thickness)
+        _normal_map(tree, uv, images[values.NORMAL_MAP], bump, thickness, uv_map)
     _link(tree, bump.outputs["Normal"], bsdf.inputs["Normal"])
     displacement = _displacement(tree, height, output, thickness, connect_displacement)
     for node, name in ((colour, "Colour"), (height, "Height"), (opacity, "Opacity"), (bump, "Bump"),
@@ -262,7 +263,7 @@ def _fine_bump(tree, surface, thickness):
     return bump
 
 
-def _normal_map(tree, uv, image, bump, thickness):
+def _normal_map(tree, uv, image, bump, thickness, uv_map):
     """The painter's tangent-space normals (normal.exr ``image``) under ``bump``: they shade a flat plane and
     the weave bump stacks on top (switched off for paint of no thickness)."""
     normal_image = _image_node(tree.nodes, image, "Normal", "Linear", (-1000, -1050))
@@ -270,7 +271,7 @@ def _normal_map(tree, uv, image, bump, thickness):
     normal = tree.nodes.new("ShaderNodeNormalMap")
     normal.location = (-600, -1000)
     normal.space = "TANGENT"
-    normal.uv_map = "UVMap"
+    normal.uv_map = uv_map
     normal.inputs["Strength"].default_value = normal_strength(thickness)
     normal.name = NODE_PREFIX + "Normal Map"
     _link(tree, normal_image.outputs["Color"], normal.inputs["Color"])

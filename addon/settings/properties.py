@@ -395,6 +395,43 @@ class PaintReliefSettings(PropertyGroup):
         options={"HIDDEN"},
     )
 
+    # --- Paint Object ---
+    object_texture_size: EnumProperty(
+        name="Texture Size",
+        description="Texels a side of the texture Paint Object paints in the object's UV space",
+        items=tuple((str(size), "{}K".format(size // 1024), "{0} x {0} texels".format(size))
+                    for size in values.TEXTURE_SIZES),
+        default="2048",
+    )
+    object_texture_path: _path(
+        "Texture File",
+        "The picture to paint when the object's material has no image feeding its Base Color (else its diffuse "
+        "colour is baked)",
+        subtype="FILE_PATH",
+    )
+    object_stroke_mm: StringProperty(
+        name="Stroke Widths",
+        description="Stroke widths in millimetres on the surface, such as 32,16,8,4 (empty: the widths a still of "
+                    "the texture's size gets, at the size of its median texel)",
+        default="",
+    )
+    object_relief: EnumProperty(
+        name="Relief",
+        description="How the paint's thickness shows on the object",
+        items=(
+            ("DISPLACE", "Displace", "A simple Subdivision Surface and a Displace modifier move the surface along "
+             "its normals by the paint's height"),
+            ("NORMAL_MAP", "Normal Map", "The painter's normal map shades the surface; its geometry stays"),
+        ),
+        default="DISPLACE",
+    )
+    object_output_dir: _path(
+        "Output Folder",
+        "Folder for the object's painted maps. Leave empty to give every painting a new folder named after the "
+        "object, where still paintings go",
+    )
+
+
 classes = (PaintReliefSettings,)
 
 

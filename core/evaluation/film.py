@@ -35,33 +35,13 @@ from ..lighting import paper_lighting
 from ..motion import mean_over_pairs, visible_in_both, warping_error
 from ..motion.source import VECTOR_PASS_MOTION, two_way_motion
 from ..progress import ProgressFn, Stage
+from ..resample import resize_area
 from .film_files import frame_file
 
 FILMS = ("footage", "relit", "paper", "painting")
 """The films measured: the footage, the Cycles renders, the paper's 2-D lighting, the unlit painting."""
 GIF_SECONDS_PER_FRAME = 0.1
 """The side-by-side GIF plays at 10 frames a second."""
-
-
-def area_weights(size_in: int, size_out: int) -> np.ndarray:
-    """float32 (size_out, size_in): each output pixel the mean of the input pixels under its area (weights by
-    overlap, rows summing to 1)."""
-    edges = np.linspace(0.0, size_in, size_out + 1)
-    left = np.arange(size_in, dtype=np.float64)
-    overlap = np.clip(np.minimum(edges[1:, None], left[None, :] + 1) - np.maximum(edges[:-1, None], left[None, :]),
-                      0.0, None)
-    return (overlap / overlap.sum(axis=1, keepdims=True)).astype(np.float32)
-
-
-def resize_area(values: np.ndarray, width: int, height: int) -> np.ndarray:
-    """(H, W) or (H, W, C) float values resampled to (height, width[, C]) by area averaging (float32)."""
-    data = np.asarray(values, dtype=np.float32)
-    if data.shape[:2] == (height, width):
-        return data
-    rows, cols = area_weights(data.shape[0], height), area_weights(data.shape[1], width)
-    flat = data.reshape(data.shape[0], data.shape[1], -1)
-    out = np.einsum("ij,jkc,lk->ilc", rows, flat, cols, optimize=True)
-    return out.reshape((height, width) + data.shape[2:]).astype(np.float32)
 
 
 def resize_motion(motion: np.ndarray, width: int, height: int) -> np.ndarray:

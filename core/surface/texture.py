@@ -30,6 +30,7 @@ from ..measures import psnr
 from ..methods.huang11 import paint_details, paint_layers
 from ..params import Params, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
+from ..resample import resize_area
 from ..results import Painting
 from ..strokes.brush import load_brush, tip_cache
 from ..strokes.canvas import Canvas
@@ -54,8 +55,6 @@ def surface_layout(mesh: SurfaceMesh, size: int) -> SurfaceLayout:
 def square_texture(image: np.ndarray, size: int) -> np.ndarray:
     """(H, W, 3) ``image`` resampled to (size, size, 3): averaged over each new texel's area where it shrinks,
     bilinear where it grows (texel centres aligned)."""
-    from ..evaluation.film import resize_area
-
     h, w = image.shape[:2]
     if (h, w) == (size, size):
         return image

@@ -1,0 +1,103 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A painted object's look: its own material showing the painted texture, the relief on the object itself, and
+the way back to the material it had.
+
+The painted material is the canvas's shader (``scene.material``) reading the
+maps through the UV map Blender renders with. The relief either displaces
+the object along its normals by thickness x height (a Subdivision Surface of
+simple subdivision, which keeps the object's shape, then a Displace modifier
+reading the height map through the UV map) or, with ``NORMAL_MAP``, shades
+it with the painter's normal map and leaves its geometry alone. The
+materials the object had are remembered on the object (ORIGINALS_KEY, by
+name), so one toggle shows them again and another the painting.
+"""
+
+import bpy
+
+from .. import values
+from ..scene import canvas, maps
+from ..scene import material as canvas_material
+from .surface import uv_map_name
+
+ORIGINALS_KEY = "paint_relief_original_materials"
+PAINTED_KEY = "paint_relief_painted_material"
+FOLDER_KEY = "paint_relief_object_folder"
+
+
+def relief_modifiers(obj):
+    """The object's relief modifiers that Paint Object added (Subdivision, Displace), those present."""
+    return [m for m in (obj.modifiers.get(canvas.SUBDIVISION_MODIFIER), obj.modifiers.get(canvas.DISPLACE_MODIFIER))
+            if m is not None]
+
+
+def add_relief(obj, height_image, thickness, texture_size):
+    """Displace ``obj`` by ``thickness`` metres x the height map: a simple Subdivision Surface fine enough for the
+    texture (``values.relief_levels``) and a Displace modifier along the normals through the UV map."""
+    levels = values.relief_levels(len(obj.data.polygons), texture_size)
+    subdivision = obj.modifiers.get(canvas.SUBDIVISION_MODIFIER)
+    if subdivision is None or subdivision.type != "SUBSURF":
+        if subdivision is not None:
+            obj.modifiers.remove(subdivision)
+        subdivision = obj.modifiers.new(canvas.SUBDIVISION_MODIFIER, "SUBSURF")
+    subdivision.subdivision_type = "SIMPLE"
+    subdivision.levels = max(0, levels - 2)
+    subdivision.render_levels = levels
+    displace = canvas.add_displace(obj, height_image, thickness)
+    displace.uv_layer = uv_map_name(obj)
+    for modifier in (subdivision, displace):
+        modifier.show_viewport = modifier.show_render = True
+    return subdivision, displace
+
+
+def remove_relief(obj):
+    """Remove the relief modifiers Paint Object added."""
+    for modifier in relief_modifiers(obj):
+        obj.modifiers.remove(modifier)
+
+
+def paint_object_look(obj, folder, thickness, relief, texture_size):
+    """Give ``obj`` the painting in ``folder``: its painted material in every slot (made, or updated when it has
+    one) and the relief (``relief``: 'DISPLACE' or 'NORMAL_MAP'); the materials it had are remembered the first
+    time. Returns the material. Raises maps.CanvasError (before changing anything) when a map cannot be used."""
+    normal_map = relief == "NORMAL_MAP"
+    images = maps.load_maps(folder, values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ()))
+    painted = bpy.data.materials.get(obj.get(PAINTED_KEY, "")) if obj.get(PAINTED_KEY) else None
+    if painted is None:
+        painted = bpy.data.materials.new("Paint Relief " + obj.name)
+    canvas_material.build_material(painted, images, thickness, False, normal_map, uv_map_name(obj))
+    if ORIGINALS_KEY not in obj:
+        obj[ORIGINALS_KEY] = [slot.material.name if slot.material else "" for slot in obj.material_slots]
+    obj[PAINTED_KEY] = painted.name
+    obj[FOLDER_KEY] = folder
+    if normal_map:
+        remove_relief(obj)
+    else:
+        add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size)
+    show_painting(obj, True)
+    return painted
+
+
+def shows_painting(obj):
+    """Whether ``obj`` shows its painted material now."""
+    painted = obj.get(PAINTED_KEY)
+    return bool(painted) and any(slot.material is not None and slot.material.name == painted
+                                 for slot in obj.material_slots)
+
+
+def show_painting(obj, painted):
+    """Show ``obj``'s painted material and relief (``painted``), or the materials it had before Paint Object and
+    no relief."""
+    material = bpy.data.materials.get(obj.get(PAINTED_KEY, ""))
+    if painted and material is not None:
+        if not obj.material_slots:
+            obj.data.materials.append(material)
+        for slot in obj.material_slots:
+            slot.material = material
+    elif not painted:
+        originals = list(obj.get(ORIGINALS_KEY, []))
+        for slot, name in zip(obj.material_slots, originals, strict=False):   # slots added since keep theirs
+            slot.material = bpy.data.materials.get(name) if name else None
+        if not originals:
+            obj.data.materials.clear()
+    for modifier in relief_modifiers(obj):
+        modifier.show_viewport = modifier.show_render = bool(painted)

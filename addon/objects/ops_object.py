@@ -1,0 +1,222 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The Paint Object operators: paint the active mesh's texture in its UV space, unwrap a mesh that has no UV
+map, and switch between the painted material and the one the object had.
+
+Paint Object gathers on the main thread what the painter needs: the mesh's
+triangles and the texture's source (``surface.texture_source``, which may
+bake). The work is one call of ``core.paint_object``, in a worker thread with
+the progress bar and Esc interactively, or at once headless
+(``modal_job``). Once it is done, the object gets its painted material and
+relief (``object_material``).
+"""
+
+import os
+import shutil
+import tempfile
+
+import bpy
+from bpy.types import Operator
+
+from .. import dependencies, values
+from ..modal_job import ModalJob, Outcome, Worker
+from ..painting import jobs
+from ..painting.ops_paint import params_from_settings
+from ..scene.maps import CanvasError
+from ..settings import properties
+from . import object_material, surface
+
+
+def object_output_dir(context, obj):
+    """The folder the painting of ``obj`` goes into: the Paint Object folder when set, else a new folder named
+    after the object where paintings go."""
+    settings = context.scene.paint_relief
+    if settings.object_output_dir:
+        return os.path.normpath(bpy.path.abspath(settings.object_output_dir))
+    return values.next_painting_folder(properties.paintings_parent(context), obj.name)
+
+
+class ObjectJob:
+    """What Paint Object hands its worker and its finish: ``work(progress, cancel)``, the sentence of an
+    unexpected ``failure``, the object, its texture's size, and ``scratch``, a folder of its own holding the
+    texture's source when Blender had it only in memory or baked it (moved into the painting's folder as
+    source.png once it is painted; the folder is removed either way)."""
+
+    def __init__(self, work, failure, obj, size, scratch):
+        self.work, self.failure, self.obj, self.size, self.scratch = work, failure, obj, size, scratch
+
+    def finish(self, operator, context, report):
+        """Keep the written source with the painting, give the object its painting, tell the user."""
+        written = os.path.join(self.scratch, "source.png")
+        if os.path.isfile(written):
+            shutil.move(written, os.path.join(report["output_dir"], "source.png"))
+        _finish(operator, context, self.obj, self.size, report)
+
+    def clean(self):
+        """Remove the scratch folder."""
+        shutil.rmtree(self.scratch, ignore_errors=True)
+
+
+def _prepare(operator, context):
+    """Check the object and the settings, find the texture's source; return an ``ObjectJob`` or None after
+    reporting the problem in one sentence."""
+    missing = dependencies.problem()
+    if missing is not None:
+        operator.report({"ERROR"}, missing)
+        return None
+    from ... import core
+
+    obj, settings = context.active_object, context.scene.paint_relief
+    problem = surface.mesh_problem(obj)
+    if problem is None and jobs.is_running(context.scene):
+        problem = ("A painting is already running in scene {}: wait for it to finish or press Esc to cancel "
+                   "it.".format(context.scene.name))
+    if problem is not None:
+        operator.report({"ERROR"}, problem)
+        return None
+    size = int(settings.object_texture_size)
+    scratch = tempfile.mkdtemp(prefix="paint_relief_object_")
+    try:
+        params = params_from_settings(settings).validate()
+        widths = values.parse_widths(settings.object_stroke_mm)
+        folder = object_output_dir(context, obj)
+        properties.check_output_folder(folder)
+        source, _ = surface.texture_source(context, obj, settings.object_texture_path, size, scratch)
+        uv, position = surface.mesh_triangles(context, obj)
+    except (ValueError, RuntimeError, core.PaintReliefError) as error:
+        shutil.rmtree(scratch, ignore_errors=True)
+        operator.report({"ERROR"}, str(error))
+        return None
+    mesh = core.SurfaceMesh(uv, position)
+
+    def work(progress, cancel):
+        return core.paint_object(source, mesh, folder, params, size, widths, progress=progress, cancel=cancel,
+                                 normal_map=settings.object_relief == "NORMAL_MAP")
+
+    return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch)
+
+
+def _finish(operator, context, obj, size, report):
+    """Give the object its painting; report how many strokes went where (or why the maps cannot be shown)."""
+    settings = context.scene.paint_relief
+    try:
+        object_material.paint_object_look(obj, report["output_dir"], settings.thickness_mm / 1000.0,
+                                          settings.object_relief, size)
+    except CanvasError as error:
+        operator.report({"ERROR"}, str(error))
+        return
+    operator.report({"INFO"}, "Painted {} strokes on {} into {}".format(report.get("strokes", "the"), obj.name,
+                                                                        report["output_dir"]))
+
+
+class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
+    """Paint the active mesh's texture in its UV space and give the object the painting and its relief"""
+
+    bl_idname = "paint_relief.paint_object"
+    bl_label = "Paint Object"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH" and context.mode == "OBJECT"
+
+    def execute(self, context):
+        job = _prepare(self, context)
+        if job is None:
+            return {"CANCELLED"}
+        jobs.begin(context.scene)
+        try:
+            outcome = Outcome().run(job.work, job.failure)
+            return self.report_outcome(outcome, lambda report: job.finish(self, context, report), False)
+        finally:
+            jobs.end(context.scene)
+            job.clean()
+
+    def begin_modal(self, context):
+        self._job = _prepare(self, context)
+        if self._job is None:
+            return {"CANCELLED"}
+        self._scene = context.scene
+        jobs.begin(context.scene)
+        self.start_timer(context)
+        self._worker = Worker(self._job.work, self._job.failure)
+        return {"RUNNING_MODAL"}
+
+    def escape(self, context):
+        self._worker.cancel.set()
+        return {"RUNNING_MODAL"}
+
+    def step(self, context):
+        worker = self._worker
+        if worker.is_alive():
+            if worker.cancel.is_set():
+                self.show(context, worker.fraction, "cancelling...", percent=False)
+            else:
+                self.show(context, worker.fraction, "{} (Esc to cancel)".format(worker.message))
+            return {"RUNNING_MODAL"}
+        try:
+            return self.report_outcome(worker, lambda report: self._job.finish(self, context, report),
+                                       worker.cancel.is_set())
+        finally:
+            self._end(context)
+
+    def cancel(self, context):
+        self._worker.stop()
+        self._end(context)
+
+    def _end(self, context):
+        jobs.end(self._scene)
+        self.end_modal(context)
+        self._job.clean()
+
+
+class PAINT_RELIEF_OT_smart_uv_project(Operator):
+    """Unwrap the active mesh with Smart UV Project, so that its texture can be painted"""
+
+    bl_idname = "paint_relief.smart_uv_project"
+    bl_label = "Smart UV Project"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH" and context.mode == "OBJECT"
+
+    def execute(self, context):
+        obj = context.active_object
+        if not obj.data.polygons:
+            self.report({"ERROR"}, "Object {} has no faces to unwrap.".format(obj.name))
+            return {"CANCELLED"}
+        bpy.ops.object.mode_set(mode="EDIT")
+        try:
+            bpy.ops.mesh.select_all(action="SELECT")
+            bpy.ops.uv.smart_project(island_margin=0.02)
+        finally:
+            bpy.ops.object.mode_set(mode="OBJECT")
+        self.report({"INFO"}, "Unwrapped {} into UV map {}".format(obj.name, surface.uv_map_name(obj)))
+        return {"FINISHED"}
+
+
+class PAINT_RELIEF_OT_object_painting(Operator):
+    """Show the painting on the active object, or the material it had before Paint Object"""
+
+    bl_idname = "paint_relief.object_painting"
+    bl_label = "Show Painting"
+    bl_options = {"REGISTER", "UNDO"}
+
+    show: bpy.props.BoolProperty(name="Show Painting", description="Show the painting (else the original "
+                                 "material)", default=True)
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and bool(obj.get(object_material.PAINTED_KEY))
+
+    def execute(self, context):
+        object_material.show_painting(context.active_object, self.show)
+        return {"FINISHED"}
+
+
+classes = (PAINT_RELIEF_OT_paint_object, PAINT_RELIEF_OT_smart_uv_project, PAINT_RELIEF_OT_object_painting)
+
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -1,0 +1,127 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Run Paint Object inside Blender (the bpy module) and print what it did, for tests/test_paint_object.py.
+
+Run in its own process (``bpy`` can be imported once per process), with
+``BLENDER_USER_RESOURCES`` pointing at a throw-away folder::
+
+    BLENDER_USER_RESOURCES=/tmp/x python tests/blender/object_checks.py WORK_DIR
+
+The repository is loaded as the package ``paint_relief`` and registered as
+Blender would. A UV sphere whose material's Base Color comes from an image is
+painted at 1024 texels with displacement; Suzanne, which has no UV map, is
+refused in one sentence, unwrapped by Smart UV Project and painted from a bake
+of its diffuse colour with the Normal Map relief. Each check stores its
+findings under its name (a check that raises stores its traceback). The last
+line printed is ``RESULTS <json>``.
+"""
+
+import json
+import os
+import sys
+
+from recorder import REPO, RESULTS, check, load_extension
+
+WORK = os.path.abspath(sys.argv[1])
+bpy = load_extension(WORK)
+settings = bpy.context.scene.paint_relief
+settings.object_texture_size = "1024"
+settings.seed = 3
+
+
+def run(op, **kwargs):
+    """Call an operator; (sorted result or None, the error it reported)."""
+    try:
+        return sorted(op(**kwargs)), ""
+    except RuntimeError as error:
+        return None, str(error)
+
+
+def textured_sphere():
+    """A UV sphere of radius 0.5 m whose Principled BSDF's Base Color reads a photograph."""
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=32, ring_count=16)
+    sphere = bpy.context.active_object
+    sphere.name = "Sphere"
+    material = bpy.data.materials.new("Photo")
+    if material.node_tree is None:
+        material.use_nodes = True
+    nodes = material.node_tree.nodes
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.load(os.path.join(REPO, "sample_scenes", "chelsea.png"))
+    bsdf = next(node for node in nodes if node.bl_idname == "ShaderNodeBsdfPrincipled")
+    material.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+    sphere.data.materials.append(material)
+    return sphere
+
+
+@check
+def sphere_painted():
+    sphere = textured_sphere()
+    settings.object_output_dir = os.path.join(WORK, "sphere")
+    result, error = run(bpy.ops.paint_relief.paint_object)
+    folder = settings.object_output_dir
+    report = json.load(open(os.path.join(folder, "report.json")))
+    return {"result": result, "error": error, "files": sorted(os.listdir(folder)),
+            "input": report["input"], "width": report["width"], "islands": len(report["islands"]),
+            "slots": [slot.material.name for slot in sphere.material_slots],
+            "modifiers": [(m.name, m.type) for m in sphere.modifiers],
+            "displace_uv": sphere.modifiers["Paint Relief Displace"].uv_layer,
+            "strength": sphere.modifiers["Paint Relief Displace"].strength,
+            "render_levels": sphere.modifiers["Paint Relief Subdivision"].render_levels}
+
+
+@check
+def original_material_back():
+    sphere = bpy.data.objects["Sphere"]
+    back, _ = run(bpy.ops.paint_relief.object_painting, show=False)
+    original = [slot.material.name for slot in sphere.material_slots]
+    hidden = [m.show_render for m in sphere.modifiers]
+    again, _ = run(bpy.ops.paint_relief.object_painting, show=True)
+    return {"back": back, "original": original, "relief_shown": hidden, "again": again,
+            "painted": [slot.material.name for slot in sphere.material_slots],
+            "relief_again": [m.show_render for m in sphere.modifiers]}
+
+
+@check
+def monkey_without_uvs():
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.ops.mesh.primitive_monkey_add(size=1.0, location=(2.0, 0.0, 0.0))
+    monkey = bpy.context.active_object
+    monkey.name = "Suzanne"
+    while monkey.data.uv_layers:
+        monkey.data.uv_layers.remove(monkey.data.uv_layers[0])
+    material = bpy.data.materials.new("Orange")
+    if material.node_tree is None:
+        material.use_nodes = True
+    bsdf = next(node for node in material.node_tree.nodes if node.bl_idname == "ShaderNodeBsdfPrincipled")
+    bsdf.inputs["Base Color"].default_value = (0.8, 0.3, 0.05, 1.0)
+    monkey.data.materials.append(material)
+    refused, error = run(bpy.ops.paint_relief.paint_object)
+    unwrapped, _ = run(bpy.ops.paint_relief.smart_uv_project)
+    return {"refused": refused, "error": error, "unwrapped": unwrapped,
+            "uv_maps": [layer.name for layer in monkey.data.uv_layers]}
+
+
+@check
+def monkey_baked_with_a_normal_map():
+    monkey = bpy.data.objects["Suzanne"]
+    settings.object_output_dir = os.path.join(WORK, "monkey")
+    settings.object_relief = "NORMAL_MAP"
+    engine = bpy.context.scene.render.engine
+    result, error = run(bpy.ops.paint_relief.paint_object)
+    folder = settings.object_output_dir
+    import numpy as np
+    from paint_relief.core.files.reading import read_image
+
+    source = read_image(os.path.join(folder, "source.png")).reshape(-1, 3)
+    orange = np.array([0.8, 0.3, 0.05]) ** (1 / 2.2)                # the Base Color, near enough in sRGB
+    covered = source[np.abs(source - orange).max(axis=1) < 0.05]
+    return {"result": result, "error": error, "files": sorted(os.listdir(folder)),
+            "engine_kept": bpy.context.scene.render.engine == engine,
+            "bake_share_orange": len(covered) / len(source),
+            "images_left": [image.name for image in bpy.data.images if image.name.startswith("Paint Relief Bake")],
+            "modifiers": [m.name for m in monkey.modifiers],
+            "normal_map_uv": [node.uv_map for node in monkey.material_slots[0].material.node_tree.nodes
+                              if node.bl_idname == "ShaderNodeNormalMap"]}
+
+
+print("RESULTS " + json.dumps(RESULTS))

@@ -1,0 +1,66 @@
+"""Paint Object inside Blender: a textured sphere painted with displacement and back to its own material, a mesh
+without UVs refused, unwrapped and painted from a bake with a normal map (tests/blender/object_checks.py)."""
+
+from pathlib import Path
+
+import pytest
+from addon_values import values
+from blender_run import need_bpy, run_checks
+from blender_run import step as _step
+
+HELPER = Path(__file__).resolve().parent / "blender" / "object_checks.py"
+MAPS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "report.json", "strokes.json"}
+
+
+@pytest.fixture(scope="module")
+def found(tmp_path_factory):
+    need_bpy()
+    work = tmp_path_factory.mktemp("objects")
+    return run_checks(HELPER, work, work)
+
+
+def test_a_sphere_is_painted_from_its_base_color_image_and_displaced_by_its_relief(found):
+    sphere = _step(found, "sphere_painted")
+    assert sphere["result"] == ["FINISHED"], sphere["error"]
+    assert MAPS <= set(sphere["files"]) and sphere["input"].endswith("chelsea.png")
+    assert sphere["width"] == 1024 and sphere["islands"] == 1
+    assert sphere["slots"] == ["Paint Relief Sphere"]
+    assert sphere["modifiers"] == [["Paint Relief Subdivision", "SUBSURF"], ["Paint Relief Displace", "DISPLACE"]]
+    assert sphere["displace_uv"] == "UVMap" and sphere["strength"] == pytest.approx(0.002)
+    assert sphere["render_levels"] == values.relief_levels(32 * 16, 1024)
+
+
+def test_the_original_material_comes_back_with_one_toggle_and_the_painting_with_another(found):
+    toggled = _step(found, "original_material_back")
+    assert toggled["back"] == ["FINISHED"] and toggled["original"] == ["Photo"]
+    assert toggled["relief_shown"] == [False, False]
+    assert toggled["again"] == ["FINISHED"] and toggled["painted"] == ["Paint Relief Sphere"]
+    assert toggled["relief_again"] == [True, True]
+
+
+def test_a_mesh_without_a_uv_map_is_one_sentence_offering_smart_uv_project_which_unwraps_it(found):
+    monkey = _step(found, "monkey_without_uvs")
+    assert monkey["refused"] is None
+    assert monkey["error"].strip() == ("Error: Object Suzanne has no UV map: press Smart UV Project in the Paint "
+                                       "Object panel to unwrap it, then paint.")
+    assert monkey["unwrapped"] == ["FINISHED"] and monkey["uv_maps"] == ["UVMap"]
+
+
+def test_a_mesh_whose_colour_is_no_image_is_painted_from_a_bake_and_shaded_by_a_normal_map(found):
+    monkey = _step(found, "monkey_baked_with_a_normal_map")
+    assert monkey["result"] == ["FINISHED"], monkey["error"]
+    assert MAPS | {"normal.exr", "source.png"} <= set(monkey["files"])
+    assert monkey["bake_share_orange"] > 0.3                   # its UV islands hold its Base Color
+    assert monkey["engine_kept"] and monkey["images_left"] == []
+    assert monkey["modifiers"] == [] and monkey["normal_map_uv"] == ["UVMap"]
+
+
+def test_relief_levels_give_about_a_vertex_for_every_four_by_four_texels():
+    assert values.relief_levels(1024, 1024) == 3               # 1024 x 4^3 = 65536 faces for 256^2 texels
+    assert values.relief_levels(6, 2048) == 6                  # a cube: at most 6 levels
+    assert values.relief_levels(10 ** 6, 1024) == 0
+    assert values.parse_widths(" 32, 16 8") == (32.0, 16.0, 8.0) and values.parse_widths("") is None
+    with pytest.raises(ValueError, match="'x' is not a number of millimetres"):
+        values.parse_widths("8,x")
+    with pytest.raises(ValueError, match="-2 must be a positive number"):
+        values.parse_widths("8,-2")
