@@ -1,6 +1,10 @@
 """Paint Object inside Blender: a textured sphere painted with displacement and back to its own material, a mesh
 without UVs refused, unwrapped and painted from a bake with a normal map (tests/blender/object_checks.py)."""
 
+import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -64,3 +68,31 @@ def test_relief_levels_give_about_a_vertex_for_every_four_by_four_texels():
         values.parse_widths("8,x")
     with pytest.raises(ValueError, match="-2 must be a positive number"):
         values.parse_widths("8,-2")
+
+
+def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measures_the_films(tmp_path):
+    """sample_scenes/paint_object.py on its demo scene: the maps, three turntable films and side by side, the
+    islands' texels 4x apart, and the warping error of each film from view to view by the Vector pass."""
+    need_bpy()
+    script = Path(__file__).resolve().parents[1] / "sample_scenes" / "paint_object.py"
+    run = subprocess.run([sys.executable, str(script), "-o", str(tmp_path / "out"), "--views", "3", "--samples", "2",
+                          "--resolution", "48", "--texture-size", "1024"], capture_output=True, text=True,
+                         timeout=600, cwd=tmp_path, env=dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user")))
+    assert run.returncode == 0, run.stderr[-3000:]
+    out = tmp_path / "out"
+    summary = json.loads((out / "object.json").read_text())
+    spans = sorted(island["texel_mm"] for island in summary["islands"])
+    assert len(spans) == 6 and spans[-1] / spans[0] == pytest.approx(4.0, rel=0.01)
+    for film in ("relit", "paper", "original", "side_by_side"):
+        assert sorted(p.name for p in (out / "turntable" / film).iterdir()) == ["0001.png", "0002.png", "0003.png"]
+    for film in ("relit", "paper", "original"):
+        errors = summary["warping_error"][film]
+        assert len(errors) == 2 and all(0 <= error < 0.1 for error in errors), (film, errors)
+    assert summary["relit_over_original"] == pytest.approx(summary["mean_warping_error"]["relit"]
+                                                           / summary["mean_warping_error"]["original"])
+    assert (out / "scene.blend").is_file() and (out / "maps" / "color.exr").is_file()
+    refused = subprocess.run([sys.executable, str(script), str(tmp_path / "none.blend"), "-o", str(tmp_path / "x")],
+                             capture_output=True, text=True, timeout=300, cwd=tmp_path,
+                             env=dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user")))
+    assert refused.returncode == 1 and refused.stderr.strip().endswith(f"The scene {tmp_path / 'none.blend'} does "
+                                                                       f"not exist.")

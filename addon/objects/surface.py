@@ -25,7 +25,7 @@ def mesh_problem(obj):
         return "Select a mesh object to paint its texture."
     if len(obj.data.polygons) == 0:
         return "Object {} has no faces to paint.".format(obj.name)
-    if obj.data.uv_layers.active_render is None and obj.data.uv_layers.active is None:
+    if len(obj.data.uv_layers) == 0:
         return ("Object {} has no UV map: press Smart UV Project in the Paint Object panel to unwrap it, then "
                 "paint.".format(obj.name))
     return None
@@ -34,7 +34,8 @@ def mesh_problem(obj):
 def uv_map_name(obj):
     """The name of the UV map the painted texture follows: the one Blender renders with."""
     layers = obj.data.uv_layers
-    return (layers.active_render or layers.active).name
+    rendered = next((layer for layer in layers if getattr(layer, "active_render", False)), None)
+    return (rendered or layers.active or layers[0]).name
 
 
 def mesh_triangles(context, obj):

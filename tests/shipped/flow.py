@@ -317,6 +317,54 @@ def main(zip_path, work):
                 "files": sorted(os.listdir(out)) if os.path.isdir(out) else []}
 
     @step
+    def paint_object_from_its_base_color():
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=16, ring_count=8, location=(3.0, 0.0, 0.0))
+        sphere = bpy.context.active_object
+        image = bpy.data.images.new("Generated", 64, 32)
+        u, v = np.mgrid[0:32, 0:64][::-1]
+        image.pixels.foreach_set(np.dstack([u / 64, v / 32, 0.5 + 0 * u, 1 + 0 * u]).astype(np.float32).ravel())
+        material = bpy.data.materials.new("Generated colour")
+        if material.node_tree is None:
+            material.use_nodes = True
+        texture = material.node_tree.nodes.new("ShaderNodeTexImage")
+        texture.image = image
+        bsdf = next(n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+        material.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+        sphere.data.materials.append(material)
+        settings.object_texture_size = "1024"
+        settings.object_output_dir = os.path.join(work, "sphere")
+        result, error = run_op(ops.paint_object)
+        folder = settings.object_output_dir
+        files = sorted(os.listdir(folder)) if os.path.isdir(folder) else []
+        back, _ = run_op(ops.object_painting, show=False)
+        original = [slot.material.name for slot in sphere.material_slots]
+        run_op(ops.object_painting, show=True)
+        return {"result": result, "error": error, "files": files,
+                "slots": [slot.material.name for slot in sphere.material_slots], "back": back, "original": original,
+                "modifiers": [m.type for m in sphere.modifiers]}
+
+    @step
+    def paint_object_without_uvs_from_a_bake():
+        bpy.ops.object.select_all(action="DESELECT")
+        bpy.ops.mesh.primitive_cube_add(size=0.5, location=(-3.0, 0.0, 0.0))
+        cube = bpy.context.active_object
+        while cube.data.uv_layers:
+            cube.data.uv_layers.remove(cube.data.uv_layers[0])
+        material = bpy.data.materials.new("Plain colour")
+        if material.node_tree is None:
+            material.use_nodes = True
+        cube.data.materials.append(material)
+        refused, refusal = run_op(ops.paint_object)
+        unwrapped, _ = run_op(ops.smart_uv_project)
+        settings.object_output_dir = os.path.join(work, "cube")
+        settings.object_relief = "NORMAL_MAP"
+        result, error = run_op(ops.paint_object)
+        folder = settings.object_output_dir
+        return {"refused": refused, "refusal": refusal, "unwrapped": unwrapped, "result": result, "error": error,
+                "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else [],
+                "modifiers": [m.type for m in cube.modifiers], "engine": scene.render.engine}
+
+    @step
     def user_world_survives_add_lights_and_reload():
         world = bpy.data.worlds.new("My World")
         scene.world = world

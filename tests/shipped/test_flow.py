@@ -141,3 +141,19 @@ def test_user_world_survives_add_lights_and_a_reload(flow):
     assert found["result"] == ["FINISHED"], found["error"]
     assert found["before"] == "My World" and found["after_reload"] == "My World"
     assert len(found["lights"]) >= 1
+
+
+def test_paint_object_paints_a_sphere_from_its_base_color_and_gives_back_its_material(flow):
+    found = _step(flow, "paint_object_from_its_base_color")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert {"color.exr", "height.exr", "opacity.exr", "report.json", "source.png"} <= set(found["files"])
+    assert found["slots"] == ["Paint Relief Sphere"] and found["modifiers"] == ["SUBSURF", "DISPLACE"]
+    assert found["back"] == ["FINISHED"] and found["original"] == ["Generated colour"]
+
+
+def test_paint_object_offers_smart_uv_project_then_paints_a_bake_with_a_normal_map(flow):
+    found = _step(flow, "paint_object_without_uvs_from_a_bake")
+    assert found["refused"] is None and "has no UV map: press Smart UV Project" in found["refusal"]
+    assert found["unwrapped"] == ["FINISHED"]
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert {"normal.exr", "source.png"} <= set(found["files"]) and found["modifiers"] == []

@@ -1,0 +1,300 @@
+"""Paint an object's texture in its UV space, then film it on a turntable: relit as impasto, lit by the paper's
+2-D model, and with its original material.
+
+    blender -b --python-exit-code 1 --python sample_scenes/paint_object.py -- [SCENE.blend] --object NAME \\
+        -o OUTDIR [--texture-size N] [--views V] [--samples S] [--resolution PX] [--seed N]
+    .venv/bin/python sample_scenes/paint_object.py [SCENE.blend] --object NAME -o OUTDIR [options]
+
+With no SCENE, the demo scene of ``sample_scenes/object_scene.py`` is built
+(a box whose UV islands differ 4x in texel density) and its ``Box`` painted.
+Steps, each printed with its time:
+
+1. the scene is opened (or built) and the extension loaded;
+2. Paint Object paints the object's texture into ``OUTDIR/maps`` and gives
+   the object its painted material and displaced relief;
+3. a camera circles the object in V views under one raking sun, rendered by
+   Cycles with the Vector pass three times: the painted object
+   (``OUTDIR/turntable/relit/NNNN.png``), the object showing the paper's
+   Eq. 6-7 applied in texture space (``lit_paper.png`` of the maps, as
+   emission, without relief: ``turntable/paper/``) and the object with its
+   original material (``turntable/original/``); ``turntable/side_by_side/``
+   holds relit and paper next to each other;
+4. ``OUTDIR/object.json``: the report's per-island figures and, for each
+   film, the warping error from each view to the next by the render's own
+   Vector pass, their means and the relit film's over the original's;
+5. ``OUTDIR/scene.blend``.
+
+A bad input ends with one sentence on stderr and exit code 1 (2 for a
+malformed command line).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import json
+import math
+import shutil
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PACKAGE = "paint_relief"
+FILMS = ("relit", "paper", "original")
+SUN_ELEVATION = 25.0
+"""Degrees: the raking sun's height above the horizon."""
+CAMERA_ELEVATION = 20.0
+"""Degrees: the camera's height above the object's centre, seen from it."""
+
+
+def extension_package():
+    """The installed and enabled Paint Relief package, else the repository loaded as ``paint_relief``."""
+    import bpy
+
+    if hasattr(bpy.types, "PAINT_RELIEF_OT_paint_object"):
+        module = bpy.types.PAINT_RELIEF_OT_paint_object.__module__
+        return importlib.import_module(module.rpartition(".addon.")[0])
+    spec = importlib.util.spec_from_file_location(PACKAGE, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
+    package = importlib.util.module_from_spec(spec)
+    sys.modules[PACKAGE] = package
+    spec.loader.exec_module(package)
+    return package
+
+
+def arguments(argv):
+    parser = argparse.ArgumentParser(prog="paint_object.py", description=__doc__.splitlines()[0])
+    parser.add_argument("scene", nargs="?", type=Path, help="the .blend file holding the object (default: the demo)")
+    parser.add_argument("--object", default=None, metavar="NAME", help="the mesh object to paint (default: Box)")
+    parser.add_argument("-o", "--output", type=Path, required=True, metavar="OUTDIR", help="folder for the results")
+    parser.add_argument("--texture-size", type=int, default=2048, choices=(1024, 2048, 4096, 8192), metavar="N",
+                        help="texels a side of the painted texture (default 2048)")
+    parser.add_argument("--views", type=int, default=24, metavar="V", help="turntable views (default 24)")
+    parser.add_argument("--samples", type=int, default=16, metavar="S", help="Cycles samples (default 16)")
+    parser.add_argument("--resolution", type=int, default=384, metavar="PX", help="square render size (default 384)")
+    parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
+    args = parser.parse_args(argv[argv.index("--") + 1:] if "--" in argv else argv[1:])
+    if args.views < 2 or args.samples < 1 or args.resolution < 16:
+        parser.error("the turntable needs at least 2 views, 1 sample and 16 px")
+    return args
+
+
+class Failure(Exception):
+    """A bad input or a failed step: the message is one sentence."""
+
+
+def open_scene(args):
+    """Open SCENE (or build the demo); return the object to paint."""
+    import bpy
+
+    if args.scene is None:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        import object_scene
+
+        obj = object_scene.build()
+        return bpy.data.objects[args.object or obj.name]
+    if not args.scene.is_file():
+        raise Failure(f"The scene {args.scene} does not exist.")
+    bpy.ops.wm.open_mainfile(filepath=str(args.scene.resolve()))
+    name = args.object or "Box"
+    if name not in bpy.data.objects:
+        raise Failure(f"The scene {args.scene} has no object named {name}.")
+    return bpy.data.objects[name]
+
+
+def paint(obj, args, maps):
+    """Paint Object on ``obj`` into ``maps`` (through the operator, as the panel does)."""
+    import bpy
+
+    for other in bpy.context.view_layer.objects:
+        other.select_set(False)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    settings = bpy.context.scene.paint_relief
+    settings.object_texture_size = str(args.texture_size)
+    settings.object_output_dir = str(maps)
+    settings.seed = args.seed
+    try:
+        result = bpy.ops.paint_relief.paint_object()
+    except RuntimeError as error:
+        text = " ".join(str(error).split())
+        raise Failure(text[len("Error: "):] if text.startswith("Error: ") else text) from None
+    if "FINISHED" not in result:
+        raise Failure(f"Paint Object did not finish on {obj.name}.")
+    return json.loads((maps / "report.json").read_text())
+
+
+def turntable(obj, args):
+    """A camera circling ``obj`` over frames 1..V (one view a frame, so the Vector pass holds its motion), one
+    raking sun, Cycles with the Vector pass into multilayer EXR; returns the scene."""
+    import bpy
+    from mathutils import Vector
+
+    scene = bpy.context.scene
+    corners = [obj.matrix_world @ Vector(corner) for corner in obj.bound_box]
+    centre = sum(corners, Vector()) / 8
+    radius = max((c - centre).length for c in corners)
+    pivot = bpy.data.objects.new("Turntable", None)
+    pivot.location = centre
+    scene.collection.objects.link(pivot)
+    camera = bpy.data.objects.new("Turntable Camera", bpy.data.cameras.new("Turntable Camera"))
+    scene.collection.objects.link(camera)
+    distance = 3.2 * radius
+    camera.location = (0.0, -distance * math.cos(math.radians(CAMERA_ELEVATION)),
+                       distance * math.sin(math.radians(CAMERA_ELEVATION)))
+    camera.rotation_euler = (math.radians(90 - CAMERA_ELEVATION), 0.0, 0.0)
+    camera.parent = pivot
+    scene.camera = camera
+    scene.frame_start, scene.frame_end = 1, args.views
+    edit = bpy.context.preferences.edit
+    interpolation, edit.keyframe_new_interpolation_type = edit.keyframe_new_interpolation_type, "LINEAR"
+    for frame in (1, args.views + 1):
+        pivot.rotation_euler = (0.0, 0.0, 2 * math.pi * (frame - 1) / args.views)
+        pivot.keyframe_insert("rotation_euler", index=2, frame=frame)
+    edit.keyframe_new_interpolation_type = interpolation
+    sun = bpy.data.objects.new("Raking Sun", bpy.data.lights.new("Raking Sun", "SUN"))
+    sun.rotation_euler = (math.radians(90 - SUN_ELEVATION), 0.0, math.radians(60))
+    sun.data.energy = 3.0
+    scene.collection.objects.link(sun)
+    scene.world = scene.world or bpy.data.worlds.new("World")
+    render = scene.render
+    render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = args.samples
+    scene.cycles.use_denoising = False
+    render.resolution_x = render.resolution_y = args.resolution
+    render.resolution_percentage = 100
+    render.use_motion_blur = False
+    scene.view_settings.view_transform = "Standard"
+    bpy.context.view_layer.use_pass_vector = True
+    image = render.image_settings
+    if hasattr(image, "media_type"):
+        image.media_type = "MULTI_LAYER_IMAGE"
+    image.file_format = "OPEN_EXR_MULTILAYER"
+    image.color_depth = "32"
+    return scene
+
+
+def paper_material(maps):
+    """A material showing ``maps``/lit_paper.png as emission (the paper's lighting, which knows no surface)."""
+    import bpy
+
+    material = bpy.data.materials.new("Paint Relief Paper Lighting")
+    if material.node_tree is None:
+        material.use_nodes = True
+    tree = material.node_tree
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.load(str(maps / "lit_paper.png"))
+    emission = tree.nodes.new("ShaderNodeEmission")
+    output = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(texture.outputs["Color"], emission.inputs["Color"])
+    tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+    return material
+
+
+def render_film(scene, folder):
+    """Render frames 1..V into ``folder``/NNNN.exr; returns the paths."""
+    import bpy
+
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for frame in range(scene.frame_start, scene.frame_end + 1):
+        scene.frame_set(frame)
+        scene.render.filepath = str(folder / f"{frame:04d}.exr")
+        bpy.ops.render.render(write_still=True)
+        paths.append(folder / f"{frame:04d}.exr")
+    return paths
+
+
+def film_figures(core, films, out):
+    """Each film's warping error from each view to the next by the relit film's Vector pass (the camera moves
+    alike in every film); its PNG frames into ``out``/turntable/<film>/ and relit | paper side by side."""
+    reading = importlib.import_module(core.__name__ + ".files.reading")
+    writing = importlib.import_module(core.__name__ + ".files.writing")
+    frames_module = importlib.import_module(core.__name__ + ".files.frames")
+    motion = importlib.import_module(core.__name__ + ".motion")
+    pictures = {name: [reading.read_image(path) for path in paths] for name, paths in films.items()}
+    for name, frames in pictures.items():
+        (out / "turntable" / name).mkdir(parents=True, exist_ok=True)
+        for number, picture in enumerate(frames, 1):
+            writing.write_png(out / "turntable" / name / f"{number:04d}.png", picture)
+    sides = out / "turntable" / "side_by_side"
+    sides.mkdir(parents=True, exist_ok=True)
+    import numpy as np
+
+    for number, (relit, paper) in enumerate(zip(pictures["relit"], pictures["paper"], strict=True), 1):
+        writing.write_png(sides / f"{number:04d}.png", np.concatenate([relit, paper], axis=1))
+    errors = {name: [] for name in films}
+    vectors = [frames_module.read_vector_pass(path) for path in films["relit"]]
+    for k in range(len(vectors) - 1):
+        forward, backward = motion.motion_pair(vectors[k], vectors[k + 1])
+        visible = motion.visible_in_both(forward, backward)
+        for name, frames in pictures.items():
+            errors[name].append(float(motion.warping_error(frames[k], frames[k + 1], forward, visible)))
+    means = {name: float(np.nanmean(values)) for name, values in errors.items()}
+    return {"warping_error": errors, "mean_warping_error": means,
+            "relit_over_original": means["relit"] / means["original"] if means["original"] else None}
+
+
+def main(argv):
+    args = arguments(argv)
+    started, times = time.perf_counter(), []
+
+    def step(name):
+        times.append((name, time.perf_counter()))
+        print(f"[{name}]", flush=True)
+
+    try:
+        step("scene")
+        import bpy
+
+        obj = open_scene(args)
+        package = extension_package()
+        if not hasattr(bpy.types, "PAINT_RELIEF_OT_paint_object"):
+            package.register()
+        core = importlib.import_module(package.__name__ + ".core")
+        object_material = importlib.import_module(package.__name__ + ".addon.objects.object_material")
+        out = args.output.resolve()
+        maps = out / "maps"
+        if maps.exists():
+            shutil.rmtree(maps)
+        out.mkdir(parents=True, exist_ok=True)
+        step("paint")
+        report = paint(obj, args, maps)
+        step("renders")
+        scene = turntable(obj, args)
+        films = {"relit": render_film(scene, out / "renders" / "relit")}
+        object_material.show_painting(obj, False)
+        films["original"] = render_film(scene, out / "renders" / "original")
+        paper = paper_material(maps)
+        for slot in obj.material_slots:
+            slot.material = paper
+        films["paper"] = render_film(scene, out / "renders" / "paper")
+        object_material.show_painting(obj, True)
+        step("figures")
+        figures = film_figures(core, films, out)
+        summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views,
+                   "stroke_mm": report["stroke_mm"], "islands": report["islands"], **figures}
+        (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")
+        step("blend")
+        bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)
+    except Exception as error:  # a bad input or a failed step: one sentence
+        if type(error).__name__ not in ("Failure", "InputError", "OutputError", "ParameterError", "Cancelled"):
+            raise
+        sys.stderr.write(f"{error}\n")
+        return 1
+    times.append(("end", time.perf_counter()))
+    for (name, start), (_, stop) in zip(times, times[1:], strict=False):
+        print(f"    {name:<8} {stop - start:7.1f} s")
+    print(f"    {'total':<8} {time.perf_counter() - started:7.1f} s")
+    means = summary["mean_warping_error"]
+    print("Mean warping error from view to view: relit {relit:.5f}, paper {paper:.5f}, original {original:.5f}"
+          .format(**means) + f"; relit / original {summary['relit_over_original']:.2f}.")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
