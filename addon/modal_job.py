@@ -63,6 +63,18 @@ class ModalJob:
             wm.progress_end()
         context.workspace.status_text_set(None)
 
+    def show_worker(self, context):
+        """While the operator's ``_worker`` (a ``Worker``) runs, show its progress, or that it is cancelling, and
+        return True; False once it has ended."""
+        worker = self._worker
+        if not worker.is_alive():
+            return False
+        if worker.cancel.is_set():
+            self.show(context, worker.fraction, "cancelling...", percent=False)
+        else:
+            self.show(context, worker.fraction, "{} (Esc to cancel)".format(worker.message))
+        return True
+
     def report_outcome(self, outcome, finish, warn):
         """Report how the work ended (an ``Outcome``): its error (a WARNING when ``warn``, else an ERROR) and
         CANCELLED, or ``finish(result)`` and FINISHED."""

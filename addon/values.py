@@ -274,6 +274,9 @@ def is_inside(path, parent):
         return False
 
 
+PAINTED_MATERIAL_KEY = "paint_relief_painted_material"
+"""The custom property naming a painted object's own material (Paint Object)."""
+
 TEXTURE_SIZES = (1024, 2048, 4096, 8192)
 """The texture sizes (texels a side) Paint Object offers."""
 

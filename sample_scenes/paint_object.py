@@ -21,7 +21,9 @@ Steps, each printed with its time:
    holds relit and paper next to each other;
 4. ``OUTDIR/object.json``: the report's per-island figures and, for each
    film, the warping error from each view to the next by the render's own
-   Vector pass, their means and the relit film's over the original's;
+   Vector pass, their means and the relit film's over the original's; and
+   the colour step across the mesh's UV seams against the step across as
+   many edges inside islands (``seam_steps``);
 5. ``OUTDIR/scene.blend``.
 
 A bad input ends with one sentence on stderr and exit code 1 (2 for a
@@ -43,6 +45,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = "paint_relief"
 FILMS = ("relit", "paper", "original")
+SEAM_OFFSET = 2.0
+"""Pixels: how far on either side of an edge's picture the colour step across it is sampled."""
+EDGE_POINTS = (0.25, 0.5, 0.75)
+"""Where along each edge the step is sampled (fractions of its length)."""
 SUN_ELEVATION = 25.0
 """Degrees: the raking sun's height above the horizon."""
 CAMERA_ELEVATION = 20.0
@@ -168,6 +174,7 @@ def turntable(obj, args):
     render.use_motion_blur = False
     scene.view_settings.view_transform = "Standard"
     bpy.context.view_layer.use_pass_vector = True
+    bpy.context.view_layer.use_pass_z = True
     image = render.image_settings
     if hasattr(image, "media_type"):
         image.media_type = "MULTI_LAYER_IMAGE"
@@ -195,23 +202,106 @@ def paper_material(maps):
     return material
 
 
-def render_film(scene, folder):
-    """Render frames 1..V into ``folder``/NNNN.exr; returns the paths."""
+def render_film(scene, folder, seen=None):
+    """Render frames 1..V into ``folder``/NNNN.exr; returns the paths. ``seen(frame)`` (optional) is called with
+    each frame set, before its render."""
     import bpy
 
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     for frame in range(scene.frame_start, scene.frame_end + 1):
         scene.frame_set(frame)
+        if seen is not None:
+            seen(frame)
         scene.render.filepath = str(folder / f"{frame:04d}.exr")
         bpy.ops.render.render(write_still=True)
         paths.append(folder / f"{frame:04d}.exr")
     return paths
 
 
-def film_figures(core, films, out):
+def mesh_edges(obj):
+    """(seams, inner): the object's edges between two faces, as (K, 2, 3) world positions of their ends, split by
+    whether the two faces' UVs meet along them (inner) or part there (a UV seam)."""
+    import numpy as np
+
+    mesh = obj.data
+    layer = mesh.uv_layers.active.data
+    world = np.array(obj.matrix_world)
+    corners = {}
+    for polygon in mesh.polygons:
+        for loop in polygon.loop_indices:
+            corners.setdefault(mesh.loops[loop].vertex_index, []).append((polygon.index, tuple(layer[loop].uv)))
+    faces = {}
+    for polygon in mesh.polygons:
+        for key in polygon.edge_keys:
+            faces.setdefault(key, []).append(polygon.index)
+    seams, inner = [], []
+    for key, owners in faces.items():
+        if len(owners) != 2:
+            continue
+        uv = [{face: uv for face, uv in corners[vertex]} for vertex in key]
+        split = any(np.abs(np.subtract(ends[owners[0]], ends[owners[1]])).max() > 1e-6 for ends in uv)
+        ends = [(world @ np.array([*mesh.vertices[v].co, 1.0]))[:3] for v in key]
+        (seams if split else inner).append(ends)
+    return np.array(seams).reshape(-1, 2, 3), np.array(inner).reshape(-1, 2, 3)
+
+
+def edge_views(scene, edges):
+    """For the frame set now: each edge sample's picture (``EDGE_POINTS`` along each of (K, 2, 3) ``edges``) as
+    (K * P, 2) pixel positions (x right, y down), the unit normal of the edge's picture there (K * P, 2) and the
+    sample's distance from the camera (K * P,)."""
+    import numpy as np
+    from bpy_extras.object_utils import world_to_camera_view
+    from mathutils import Vector
+
+    width, height = scene.render.resolution_x, scene.render.resolution_y
+    points, normals, depths = [], [], []
+    for start, end in edges:
+        ends = [world_to_camera_view(scene, scene.camera, Vector(p)) for p in (start, end)]
+        along = np.array([(ends[1].x - ends[0].x) * width, (ends[0].y - ends[1].y) * height])
+        normal = np.array([-along[1], along[0]]) / max(np.hypot(*along), 1e-9)
+        for t in EDGE_POINTS:
+            at = world_to_camera_view(scene, scene.camera, Vector(start + t * (end - start)))
+            points.append((at.x * width, (1.0 - at.y) * height))
+            normals.append(normal)
+            depths.append((Vector(start + t * (end - start)) - scene.camera.matrix_world.translation).length)
+    return np.array(points).reshape(-1, 2), np.array(normals).reshape(-1, 2), np.array(depths)
+
+
+def seam_steps(core, pictures, views, depth_paths, count_seams):
+    """{film: {"seam": step, "inner": step}}: the mean absolute difference (sRGB, over RGB) of the pixels
+    SEAM_OFFSET on either side of each visible edge sample, over the views, for the seam samples (the first
+    ``count_seams`` edges' of each view) and the inner ones. A sample is visible where the render's depth there
+    is its own distance (within 3 %) and both sides lie in the picture."""
+    import numpy as np
+
+    reading = importlib.import_module(core.__name__ + ".files.reading")
+    steps = {film: {"seam": [], "inner": []} for film in pictures}
+    for k, (points, normals, distances) in enumerate(views):
+        depth = reading.read_pass(depth_paths[k], "Depth", "Z")[..., 0]
+        h, w = depth.shape
+        sides = [np.rint(points + sign * SEAM_OFFSET * normals).astype(int) for sign in (-1, 1)]
+        centre = np.rint(points).astype(int)
+        inside = np.all([(p[:, 0] >= 0) & (p[:, 0] < w) & (p[:, 1] >= 0) & (p[:, 1] < h) for p in sides + [centre]],
+                        axis=0)
+        seen = np.zeros(len(points), bool)
+        seen[inside] = np.abs(depth[centre[inside, 1], centre[inside, 0]] - distances[inside]) \
+            < 0.03 * distances[inside]
+        seam = np.arange(len(points)) < count_seams * len(EDGE_POINTS)
+        for film, frames in pictures.items():
+            frame = frames[k]
+            step = np.abs(frame[sides[0][seen, 1], sides[0][seen, 0]] - frame[sides[1][seen, 1], sides[1][seen, 0]])
+            step = step.mean(axis=1)
+            steps[film]["seam"].extend(step[seam[seen]].tolist())
+            steps[film]["inner"].extend(step[~seam[seen]].tolist())
+    return {film: {kind: float(np.mean(values)) if values else None for kind, values in found.items()}
+            | {"samples": {kind: len(values) for kind, values in found.items()}} for film, found in steps.items()}
+
+
+def film_figures(core, films, out, views, count_seams):
     """Each film's warping error from each view to the next by the relit film's Vector pass (the camera moves
-    alike in every film); its PNG frames into ``out``/turntable/<film>/ and relit | paper side by side."""
+    alike in every film) and its steps across seams and inner edges (``seam_steps`` of the edge samples
+    ``views``); its PNG frames into ``out``/turntable/<film>/ and relit | paper side by side."""
     reading = importlib.import_module(core.__name__ + ".files.reading")
     writing = importlib.import_module(core.__name__ + ".files.writing")
     frames_module = importlib.import_module(core.__name__ + ".files.frames")
@@ -236,7 +326,15 @@ def film_figures(core, films, out):
             errors[name].append(float(motion.warping_error(frames[k], frames[k + 1], forward, visible)))
     means = {name: float(np.nanmean(values)) for name, values in errors.items()}
     return {"warping_error": errors, "mean_warping_error": means,
-            "relit_over_original": means["relit"] / means["original"] if means["original"] else None}
+            "relit_over_original": means["relit"] / means["original"] if means["original"] else None,
+            "seam_steps": seam_steps(core, pictures, views, films["relit"], count_seams)}
+
+
+def random_choice(count, wanted, seed):
+    """(min(count, wanted),) int: that many of ``count`` indices, drawn without replacement (seeded), in order."""
+    import numpy as np
+
+    return np.sort(np.random.default_rng(seed).choice(count, min(count, wanted), replace=False))
 
 
 def main(argv):
@@ -250,6 +348,7 @@ def main(argv):
     try:
         step("scene")
         import bpy
+        import numpy as np
 
         obj = open_scene(args)
         package = extension_package()
@@ -266,7 +365,11 @@ def main(argv):
         report = paint(obj, args, maps)
         step("renders")
         scene = turntable(obj, args)
-        films = {"relit": render_film(scene, out / "renders" / "relit")}
+        seams, inner = mesh_edges(obj)
+        inner = inner[random_choice(len(inner), len(seams), args.seed)]
+        views = []
+        films = {"relit": render_film(scene, out / "renders" / "relit", lambda frame: views.append(
+            edge_views(scene, np.concatenate([seams, inner]))))}
         object_material.show_painting(obj, False)
         films["original"] = render_film(scene, out / "renders" / "original")
         paper = paper_material(maps)
@@ -275,7 +378,7 @@ def main(argv):
         films["paper"] = render_film(scene, out / "renders" / "paper")
         object_material.show_painting(obj, True)
         step("figures")
-        figures = film_figures(core, films, out)
+        figures = film_figures(core, films, out, views, len(seams))
         summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views,
                    "stroke_mm": report["stroke_mm"], "islands": report["islands"], **figures}
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")

@@ -40,6 +40,7 @@ def test_the_original_material_comes_back_with_one_toggle_and_the_painting_with_
     assert toggled["relief_shown"] == [False, False]
     assert toggled["again"] == ["FINISHED"] and toggled["painted"] == ["Paint Relief Sphere"]
     assert toggled["relief_again"] == [True, True]
+    assert toggled["thicker"] == pytest.approx([0.004, 0.004])      # the panel's thickness reaches the object
 
 
 def test_a_mesh_without_a_uv_map_is_one_sentence_offering_smart_uv_project_which_unwraps_it(found):
@@ -90,6 +91,9 @@ def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measure
         assert len(errors) == 2 and all(0 <= error < 0.1 for error in errors), (film, errors)
     assert summary["relit_over_original"] == pytest.approx(summary["mean_warping_error"]["relit"]
                                                            / summary["mean_warping_error"]["original"])
+    for film in ("relit", "paper", "original"):                 # the box's islands are its faces: all seams
+        steps = summary["seam_steps"][film]
+        assert steps["samples"]["seam"] > 0 and steps["samples"]["inner"] == 0 and 0 < steps["seam"] < 1
     assert (out / "scene.blend").is_file() and (out / "maps" / "color.exr").is_file()
     refused = subprocess.run([sys.executable, str(script), str(tmp_path / "none.blend"), "-o", str(tmp_path / "x")],
                              capture_output=True, text=True, timeout=300, cwd=tmp_path,

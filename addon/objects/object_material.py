@@ -20,8 +20,7 @@ from ..scene import material as canvas_material
 from .surface import uv_map_name
 
 ORIGINALS_KEY = "paint_relief_original_materials"
-PAINTED_KEY = "paint_relief_painted_material"
-FOLDER_KEY = "paint_relief_object_folder"
+PAINTED_KEY = values.PAINTED_MATERIAL_KEY
 
 
 def relief_modifiers(obj):
@@ -68,7 +67,6 @@ def paint_object_look(obj, folder, thickness, relief, texture_size):
     if ORIGINALS_KEY not in obj:
         obj[ORIGINALS_KEY] = [slot.material.name if slot.material else "" for slot in obj.material_slots]
     obj[PAINTED_KEY] = painted.name
-    obj[FOLDER_KEY] = folder
     if normal_map:
         remove_relief(obj)
     else:

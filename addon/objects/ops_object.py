@@ -108,6 +108,12 @@ def _finish(operator, context, obj, size, report):
                                                                         report["output_dir"]))
 
 
+def mesh_in_object_mode(context):
+    """Whether the active object is a mesh and Blender is in Object Mode."""
+    obj = context.active_object
+    return obj is not None and obj.type == "MESH" and context.mode == "OBJECT"
+
+
 class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
     """Paint the active mesh's texture in its UV space and give the object the painting and its relief"""
 
@@ -117,8 +123,7 @@ class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and context.mode == "OBJECT"
+        return mesh_in_object_mode(context)
 
     def execute(self, context):
         job = _prepare(self, context)
@@ -147,13 +152,9 @@ class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
         return {"RUNNING_MODAL"}
 
     def step(self, context):
-        worker = self._worker
-        if worker.is_alive():
-            if worker.cancel.is_set():
-                self.show(context, worker.fraction, "cancelling...", percent=False)
-            else:
-                self.show(context, worker.fraction, "{} (Esc to cancel)".format(worker.message))
+        if self.show_worker(context):
             return {"RUNNING_MODAL"}
+        worker = self._worker
         try:
             return self.report_outcome(worker, lambda report: self._job.finish(self, context, report),
                                        worker.cancel.is_set())
@@ -179,8 +180,7 @@ class PAINT_RELIEF_OT_smart_uv_project(Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and context.mode == "OBJECT"
+        return mesh_in_object_mode(context)
 
     def execute(self, context):
         obj = context.active_object

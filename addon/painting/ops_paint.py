@@ -160,14 +160,10 @@ class PAINT_RELIEF_OT_paint(ModalJob, Operator):
         return {"RUNNING_MODAL"}
 
     def step(self, context):
-        worker = self._worker
-        if worker.is_alive():
-            if worker.cancel.is_set():
-                self.show(context, worker.fraction, "cancelling...", percent=False)
-            else:
-                self.show(context, worker.fraction, "{} (Esc to cancel)".format(worker.message))
+        if self.show_worker(context):
             return {"RUNNING_MODAL"}
         self._end(context)
+        worker = self._worker
         return self.report_outcome(worker, lambda report: _finish(self, context, report), worker.cancel.is_set())
 
     def cancel(self, context):

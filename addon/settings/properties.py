@@ -112,10 +112,11 @@ def check_output_folder(folder):
 
 
 def _update_relief(self, context):
-    """Live update: the scene's canvases take the new paint thickness at once (no rebuild)."""
+    """Live update: the scene's canvases and painted objects take the new paint thickness at once (no rebuild)."""
     from ..scene import canvas
 
-    for obj in canvas.canvases(context.scene):
+    painted = [obj for obj in context.scene.objects if obj.get(values.PAINTED_MATERIAL_KEY)]
+    for obj in canvas.canvases(context.scene) + painted:
         canvas.set_thickness(obj, self.thickness_mm / 1000.0)
 
 

@@ -76,9 +76,13 @@ def original_material_back():
     original = [slot.material.name for slot in sphere.material_slots]
     hidden = [m.show_render for m in sphere.modifiers]
     again, _ = run(bpy.ops.paint_relief.object_painting, show=True)
+    settings.thickness_mm = 4.0                       # the panel's thickness: a live update of painted objects
+    bump = next(node for node in sphere.active_material.node_tree.nodes if node.bl_idname == "ShaderNodeBump")
+    thicker = [sphere.modifiers["Paint Relief Displace"].strength, bump.inputs["Distance"].default_value]
+    settings.thickness_mm = 2.0
     return {"back": back, "original": original, "relief_shown": hidden, "again": again,
             "painted": [slot.material.name for slot in sphere.material_slots],
-            "relief_again": [m.show_render for m in sphere.modifiers]}
+            "relief_again": [m.show_render for m in sphere.modifiers], "thicker": thicker}
 
 
 @check
