@@ -23,7 +23,8 @@ TIMER_INTERVAL = 0.1
 class ModalJob:
     """What a long operator adds to ``bpy.types.Operator``. The operator defines ``execute(context)`` (the
     whole job), ``begin_modal(context)`` (checks, ``start_timer``; returns the operator's result),
-    ``step(context)`` (one timer event) and ``escape(context)`` (Esc), and may end in ``end_modal``."""
+    ``step(context)`` (one timer event) and may end in ``end_modal``. Esc calls ``escape(context)``, which by
+    default asks the operator's ``_worker`` to stop; ``step`` then reports how it ended."""
 
     timer_interval = TIMER_INTERVAL
     status_title = "Paint Relief"
@@ -39,6 +40,11 @@ class ModalJob:
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
         return self.step(context)
+
+    def escape(self, context):
+        """Esc: ask the ``_worker`` to stop and keep running until it has."""
+        self._worker.cancel.set()
+        return {"RUNNING_MODAL"}
 
     def start_timer(self, context):
         """Start the timer whose events reach ``modal``, the progress bar and the modal handler."""

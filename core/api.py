@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 from pathlib import Path
 from typing import Callable, Optional
 
-from .errors import InputError, PaintReliefError, ParameterError
+from .errors import InputError, OutputError, PaintReliefError, ParameterError
 from .files import budget, reading
 from .files.staging import output_folder
 from .params import Params, SequenceSettings
@@ -217,13 +218,15 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
     return reports
 
 
+SOURCE_COPY = "source"
+"""The name (before the source's own suffix) of the copy of a texture's source that ``paint_object`` keeps."""
 TEXTURE_SIZES = (64, 16384)
 """The smallest and largest texture (texels a side) ``paint_object`` paints."""
 
 
 def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: Optional[int] = None,
                  stroke_mm=None, progress: ProgressFn = None, cancel: CancelFn = None,
-                 max_memory: Optional[int] = None, normal_map: bool = False) -> dict:
+                 max_memory: Optional[int] = None, normal_map: bool = False, keep_source: bool = False) -> dict:
     """Paint the texture ``texture_path`` of ``mesh`` in its UV space (ALGORITHM §10) and write every output into
     ``output_dir``, as ``paint_file`` writes a still's; return the report.
 
@@ -231,7 +234,9 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     texture_size: the painted texture's side in texels (default: the source's longer side, within
     ``TEXTURE_SIZES``); the source is resampled to that square. stroke_mm: the stroke widths in mm on the surface (default:
     ``texture.default_stroke_mm``). The maps are the texture's; report.json adds "islands" (each island's texel
-    density and stroke widths in mm), "stroke_mm" and "bleed_texels". Checks, locking, all-or-nothing and
+    density and stroke widths in mm), "stroke_mm" and "bleed_texels". keep_source: a copy of the source is
+    committed with the maps as ``SOURCE_COPY`` plus its suffix, and the report's "input" names that copy (for a
+    source that lives only as long as the caller's temporary folder). Checks, locking, all-or-nothing and
     one-sentence failures as ``paint_file``.
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, write_painting
@@ -250,18 +255,31 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     surface = (check_mesh(mesh, "given") if isinstance(mesh, SurfaceMesh) else read_obj(mesh))
     budget.check(texture_path, size, size, params.layers, max_memory=max_memory)
     budget.check_space(output_dir, texture_path, size, size, normal_map)
+    copy = SOURCE_COPY + Path(texture_path).suffix.lower() if keep_source else None
     try:
         with output_folder(output_dir) as folder:
-            folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()))
+            folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()) + ((copy,) if copy else ()))
             image = reading.read_image(texture_path, params.max_megapixels, params.canvas_colour)
             painting = paint_texture(square_texture(image, size), surface_layout(surface, size), params, stroke_mm,
                                      progress, cancel)
             with folder.staged() as staging:
-                report = write_painting(staging, painting, str(texture_path), normal_map)
+                if copy:
+                    copy_file(texture_path, staging / copy)
+                source = Path(output_dir).resolve() / copy if copy else texture_path
+                report = write_painting(staging, painting, str(source), normal_map)
     except MemoryError:
         raise out_of_memory(texture_path) from None
     report["output_dir"] = str(Path(output_dir).resolve())
     return report
+
+
+def copy_file(source, target: Path) -> None:
+    """Copy ``source`` to ``target``; OutputError naming ``target`` when it cannot be written."""
+    try:
+        shutil.copyfile(source, target)
+    except OSError as error:
+        why = error.strerror or str(error)
+        raise OutputError(f"Cannot write {target}: {why}.", target, why) from error
 
 
 @contextlib.contextmanager

@@ -54,7 +54,7 @@ def test_a_mesh_without_a_uv_map_is_one_sentence_offering_smart_uv_project_which
 def test_a_mesh_whose_colour_is_no_image_is_painted_from_a_bake_and_shaded_by_a_normal_map(found):
     monkey = _step(found, "monkey_baked_with_a_normal_map")
     assert monkey["result"] == ["FINISHED"], monkey["error"]
-    assert MAPS | {"normal.exr", "source.png"} <= set(monkey["files"])
+    assert MAPS | {"normal.exr", "source.png"} <= set(monkey["files"]) and monkey["input_is_the_kept_source"]
     assert monkey["bake_share_orange"] > 0.3                   # its UV islands hold its Base Color
     assert monkey["engine_kept"] and monkey["images_left"] == []
     assert monkey["modifiers"] == [] and monkey["normal_map_uv"] == ["UVMap"]

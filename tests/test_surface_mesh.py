@@ -108,3 +108,17 @@ def test_core_object_refuses_a_mesh_without_uvs_in_one_sentence_and_writes_nothi
     run = command(tmp_path / "texture.png", "--mesh", tmp_path / "flat.obj", "-o", tmp_path / "out",
                   "--texture-size", 20000)
     assert "The texture size must be a whole number of texels from 64 to 16384, got 20000." in run.stderr
+
+
+def test_a_kept_source_is_committed_with_the_maps_and_named_as_the_input(tmp_path):
+    from core import api
+    from core.params import Params
+
+    (tmp_path / "two.obj").write_text(TWO_ISLANDS)
+    write_png(tmp_path / "scratch.png", np.random.default_rng(2).random((64, 64, 3)))
+    report = api.paint_object(tmp_path / "scratch.png", tmp_path / "two.obj", tmp_path / "out", Params(seed=1), 64,
+                              (80, 40), keep_source=True)
+    kept = tmp_path / "out" / "source.png"
+    assert kept.read_bytes() == (tmp_path / "scratch.png").read_bytes()
+    assert report["input"] == str(kept.resolve())
+    assert json.loads((tmp_path / "out" / "report.json").read_text())["input"] == str(kept.resolve())

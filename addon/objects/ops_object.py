@@ -38,17 +38,14 @@ def object_output_dir(context, obj):
 class ObjectJob:
     """What Paint Object hands its worker and its finish: ``work(progress, cancel)``, the sentence of an
     unexpected ``failure``, the object, its texture's size, and ``scratch``, a folder of its own holding the
-    texture's source when Blender had it only in memory or baked it (moved into the painting's folder as
-    source.png once it is painted; the folder is removed either way)."""
+    texture's source when Blender had it only in memory or baked it (the painter keeps a copy with the maps as
+    source.png; the folder is removed either way)."""
 
     def __init__(self, work, failure, obj, size, scratch):
         self.work, self.failure, self.obj, self.size, self.scratch = work, failure, obj, size, scratch
 
     def finish(self, operator, context, report):
-        """Keep the written source with the painting, give the object its painting, tell the user."""
-        written = os.path.join(self.scratch, "source.png")
-        if os.path.isfile(written):
-            shutil.move(written, os.path.join(report["output_dir"], "source.png"))
+        """Give the object its painting, tell the user."""
         _finish(operator, context, self.obj, self.size, report)
 
     def clean(self):
@@ -87,10 +84,11 @@ def _prepare(operator, context):
         operator.report({"ERROR"}, str(error))
         return None
     mesh = core.SurfaceMesh(uv, position)
+    normal_map, keep_source = settings.object_relief == "NORMAL_MAP", os.path.dirname(source) == scratch
 
     def work(progress, cancel):
         return core.paint_object(source, mesh, folder, params, size, widths, progress=progress, cancel=cancel,
-                                 normal_map=settings.object_relief == "NORMAL_MAP")
+                                 normal_map=normal_map, keep_source=keep_source)
 
     return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch)
 
@@ -145,10 +143,6 @@ class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
         jobs.begin(context.scene)
         self.start_timer(context)
         self._worker = Worker(self._job.work, self._job.failure)
-        return {"RUNNING_MODAL"}
-
-    def escape(self, context):
-        self._worker.cancel.set()
         return {"RUNNING_MODAL"}
 
     def step(self, context):

@@ -155,10 +155,6 @@ class PAINT_RELIEF_OT_paint(ModalJob, Operator):
 
         return work, lambda error: "Painting {} failed: {}".format(image_path, error)
 
-    def escape(self, context):
-        self._worker.cancel.set()
-        return {"RUNNING_MODAL"}
-
     def step(self, context):
         if self.show_worker(context):
             return {"RUNNING_MODAL"}

@@ -119,7 +119,10 @@ def monkey_baked_with_a_normal_map():
     source = read_image(os.path.join(folder, "source.png")).reshape(-1, 3)
     orange = np.array([0.8, 0.3, 0.05]) ** (1 / 2.2)                # the Base Color, near enough in sRGB
     covered = source[np.abs(source - orange).max(axis=1) < 0.05]
+    with open(os.path.join(folder, "report.json")) as report:
+        named = json.load(report)["input"]
     return {"result": result, "error": error, "files": sorted(os.listdir(folder)),
+            "input_is_the_kept_source": named == os.path.realpath(os.path.join(folder, "source.png")),
             "engine_kept": bpy.context.scene.render.engine == engine,
             "bake_share_orange": len(covered) / len(source),
             "images_left": [image.name for image in bpy.data.images if image.name.startswith("Paint Relief Bake")],
