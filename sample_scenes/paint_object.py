@@ -23,7 +23,9 @@ Steps, each printed with its time:
    film, the warping error from each view to the next by the render's own
    Vector pass, their means and the relit film's over the original's; and
    the colour step across the mesh's UV seams against the step across as
-   many edges inside islands (``seam_steps``);
+   many edges inside islands in the renders (``render_seam_steps``), and in
+   the texture, source and painted (``texture_seam_steps``, the report's
+   "seam_steps");
 5. ``OUTDIR/scene.blend``.
 
 A bad input ends with one sentence on stderr and exit code 1 (2 for a
@@ -268,7 +270,7 @@ def edge_views(scene, edges):
     return np.array(points).reshape(-1, 2), np.array(normals).reshape(-1, 2), np.array(depths)
 
 
-def seam_steps(core, pictures, views, depth_paths, count_seams):
+def render_seam_steps(core, pictures, views, depth_paths, count_seams):
     """{film: {"seam": step, "inner": step}}: the mean absolute difference (sRGB, over RGB) of the pixels
     SEAM_OFFSET on either side of each visible edge sample, over the views, for the seam samples (the first
     ``count_seams`` edges' of each view) and the inner ones. A sample is visible where the render's depth there
@@ -300,7 +302,7 @@ def seam_steps(core, pictures, views, depth_paths, count_seams):
 
 def film_figures(core, films, out, views, count_seams):
     """Each film's warping error from each view to the next by the relit film's Vector pass (the camera moves
-    alike in every film) and its steps across seams and inner edges (``seam_steps`` of the edge samples
+    alike in every film) and its steps across seams and inner edges (``render_seam_steps`` of the edge samples
     ``views``); its PNG frames into ``out``/turntable/<film>/ and relit | paper side by side."""
     reading = importlib.import_module(core.__name__ + ".files.reading")
     writing = importlib.import_module(core.__name__ + ".files.writing")
@@ -327,7 +329,7 @@ def film_figures(core, films, out, views, count_seams):
     means = {name: float(np.nanmean(values)) for name, values in errors.items()}
     return {"warping_error": errors, "mean_warping_error": means,
             "relit_over_original": means["relit"] / means["original"] if means["original"] else None,
-            "seam_steps": seam_steps(core, pictures, views, films["relit"], count_seams)}
+            "render_seam_steps": render_seam_steps(core, pictures, views, films["relit"], count_seams)}
 
 
 def random_choice(count, wanted, seed):
@@ -380,7 +382,8 @@ def main(argv):
         step("figures")
         figures = film_figures(core, films, out, views, len(seams))
         summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views,
-                   "stroke_mm": report["stroke_mm"], "islands": report["islands"], **figures}
+                   "stroke_mm": report["stroke_mm"], "islands": report["islands"],
+                   "texture_seam_steps": report["seam_steps"], **figures}
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")
         step("blend")
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)

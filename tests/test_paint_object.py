@@ -92,8 +92,12 @@ def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measure
     assert summary["relit_over_original"] == pytest.approx(summary["mean_warping_error"]["relit"]
                                                            / summary["mean_warping_error"]["original"])
     for film in ("relit", "paper", "original"):                 # the box's islands are its faces: all seams
-        steps = summary["seam_steps"][film]
+        steps = summary["render_seam_steps"][film]
         assert steps["samples"]["seam"] > 0 and steps["samples"]["inner"] == 0 and 0 < steps["seam"] < 1
+    texture = summary["texture_seam_steps"]                     # its faces' two triangles share a diagonal each
+    assert texture["edges"] == {"seam": 12, "inner": 6}
+    source, painted = texture["source"], texture["painted"]     # each face shows its own part of the photograph
+    assert source["seam"] > 3 * source["inner"] and painted["seam"] == pytest.approx(source["seam"], rel=0.25)
     assert (out / "scene.blend").is_file() and (out / "maps" / "color.exr").is_file()
     refused = subprocess.run([sys.executable, str(script), str(tmp_path / "none.blend"), "-o", str(tmp_path / "x")],
                              capture_output=True, text=True, timeout=300, cwd=tmp_path,

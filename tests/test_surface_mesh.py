@@ -94,6 +94,8 @@ def test_core_object_writes_the_texture_s_maps_and_each_island_s_figures(tmp_pat
     first, second = report["islands"]
     assert (first["density_m_per_uv"], second["density_m_per_uv"]) == (2.0, 8.0)
     assert (first["sizes_texels"], second["sizes_texels"]) == ([5, 3, 2], [2])       # 15.625 and 62.5 mm texels
+    assert report["seam_steps"]["edges"] == {"seam": 0, "inner": 2}                  # apart in 3-D: two diagonals
+    assert report["seam_steps"]["offset_mm"] == 125.0                                # 2 of the coarser texels
     assert sorted(report["files"]) == ["color.exr", "height.exr", "lit_paper.png", "opacity.exr",
                                        "orientation.exr", "painting.png", "strokes.json"]
 

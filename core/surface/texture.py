@@ -37,6 +37,7 @@ from ..strokes.canvas import Canvas
 from ..strokes.stroke import Stroke, colour_sources
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
+from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
 
 
 class SurfaceLayout(NamedTuple):
@@ -44,12 +45,16 @@ class SurfaceLayout(NamedTuple):
 
     islands: np.ndarray         # (N, N) int32, 0 (no surface) or the island 1 .. K of each texel
     density: TexelDensity       # the islands' metres per UV unit (``islands.texel_density``)
+    edges: Optional[EdgeSamples] = None     # where the texture's steps across seams and inner edges are read
 
 
 def surface_layout(mesh: SurfaceMesh, size: int) -> SurfaceLayout:
-    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised and their densities."""
+    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, and the
+    samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them."""
     islands = uv_islands(mesh.uv)
-    return SurfaceLayout(island_map(mesh.uv, islands, size), texel_density(mesh.uv, mesh.position, islands))
+    density = texel_density(mesh.uv, mesh.position, islands)
+    offset_m = OFFSET_TEXELS * float(np.nanmax(density.island, initial=0.0)) / size
+    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m))
 
 
 def square_texture(image: np.ndarray, size: int) -> np.ndarray:
@@ -215,17 +220,19 @@ def texture_statistics(texture: np.ndarray, colour: np.ndarray, layout: SurfaceL
                        painted: Dict[int, IslandPainting], stroke_mm: Sequence[float], params: Params,
                        seconds: float) -> dict:
     """The report's figures of a painted texture: strokes, the PSNR over the islands' texels, and each island's
-    figures (``island_figures``)."""
+    figures (``island_figures``); with the layout's edges, the steps across seams and inner edges
+    (``seams.seam_figures``)."""
     surface = layout.islands != NO_ISLAND
     layers = max(len(part.per_layer) for part in painted.values())
     per_layer = [sum(part.per_layer[k] for part in painted.values() if k < len(part.per_layer))
                  for k in range(layers)]
+    seams = {} if layout.edges is None else {"seam_steps": seam_figures(layout.edges, texture, colour)}
     return {"strokes": int(sum(per_layer)), "strokes_per_layer": per_layer,
             "psnr_db": round(psnr(colour[surface], texture[surface]), 3),
             "seconds": {"painting": round(seconds, 4)}, "width": int(texture.shape[1]),
             "height": int(texture.shape[0]), "seed": params.seed, "stroke_mm": [round(s, 3) for s in stroke_mm],
             "bleed_texels": bleed_texels(texture.shape[0]),
-            "islands": [island_figures(island, part, layout) for island, part in painted.items()]}
+            "islands": [island_figures(island, part, layout) for island, part in painted.items()], **seams}
 
 
 def island_figures(island: int, part: IslandPainting, layout: SurfaceLayout) -> dict:
