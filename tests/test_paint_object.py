@@ -43,6 +43,14 @@ def test_the_original_material_comes_back_with_one_toggle_and_the_painting_with_
     assert toggled["thicker"] == pytest.approx([0.004, 0.004])      # the panel's thickness reaches the object
 
 
+def test_the_relief_can_be_cycles_material_displacement_over_an_adaptive_subdivision_and_back(found):
+    sphere = _step(found, "sphere_with_cycles_displacement")
+    assert sphere["modifiers"] == [["Paint Relief Subdivision", "SUBSURF"]] and sphere["adaptive"]
+    assert sphere["method"] == "DISPLACEMENT" and sphere["displacement_linked"] == ["ShaderNodeDisplacement"]
+    assert sphere["then_modifiers"] == [["Paint Relief Subdivision", "SUBSURF"], ["Paint Relief Displace", "DISPLACE"]]
+    assert sphere["then_linked"] == [] and sphere["then_method"] == "BUMP"
+
+
 def test_a_mesh_without_a_uv_map_is_one_sentence_offering_smart_uv_project_which_unwraps_it(found):
     monkey = _step(found, "monkey_without_uvs")
     assert monkey["refused"] is None

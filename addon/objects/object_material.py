@@ -6,8 +6,10 @@ The painted material is the canvas's shader (``scene.material``) reading the
 maps through the UV map Blender renders with. The relief either displaces
 the object along its normals by thickness x height (a Subdivision Surface of
 simple subdivision, which keeps the object's shape, then a Displace modifier
-reading the height map through the UV map) or, with ``NORMAL_MAP``, shades
-it with the painter's normal map and leaves its geometry alone. The
+reading the height map through the UV map); with ``CYCLES_ADAPTIVE``, the
+material's Displacement moves it at render time over a Subdivision Surface
+that Cycles dices adaptively, as a canvas's can; with ``NORMAL_MAP``, the
+painter's normal map shades it and its geometry stays. The
 materials the object had are remembered on the object (ORIGINALS_KEY, by
 name), so one toggle shows them again and another the painting.
 """
@@ -49,27 +51,31 @@ def add_relief(obj, height_image, thickness, texture_size):
 
 
 def remove_relief(obj):
-    """Remove the relief modifiers Paint Object added."""
+    """Remove the relief modifiers Paint Object added (and Blender 4.2's adaptive subdivision flag)."""
     for modifier in relief_modifiers(obj):
         obj.modifiers.remove(modifier)
+    canvas.set_object_adaptive(None, obj, False)
 
 
-def paint_object_look(obj, folder, thickness, relief, texture_size):
-    """Give ``obj`` the painting in ``folder``: its painted material in every slot (made, or updated when it has
-    one) and the relief (``relief``: 'DISPLACE' or 'NORMAL_MAP'); the materials it had are remembered the first
-    time. Returns the material. Raises maps.CanvasError (before changing anything) when a map cannot be used."""
-    normal_map = relief == "NORMAL_MAP"
+def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
+    """Give ``obj`` of ``scene`` the painting in ``folder``: its painted material in every slot (made, or updated
+    when it has one) and the relief (``relief``: 'DISPLACE', 'CYCLES_ADAPTIVE' or 'NORMAL_MAP'); the materials it
+    had are remembered the first time. Returns the material. Raises maps.CanvasError (before changing anything)
+    when a map cannot be used."""
+    normal_map, adaptive = relief == "NORMAL_MAP", relief == "CYCLES_ADAPTIVE"
     images = maps.load_maps(folder, values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ()))
     painted = bpy.data.materials.get(obj.get(PAINTED_KEY, "")) if obj.get(PAINTED_KEY) else None
     if painted is None:
         painted = bpy.data.materials.new("Paint Relief " + obj.name)
-    canvas_material.build_material(painted, images, thickness, False, normal_map, uv_map_name(obj))
+    canvas_material.build_material(painted, images, thickness, adaptive, normal_map, uv_map_name(obj))
+    canvas_material.set_material_displacement(painted, "DISPLACEMENT" if adaptive else "BUMP")
     if ORIGINALS_KEY not in obj:
         obj[ORIGINALS_KEY] = [slot.material.name if slot.material else "" for slot in obj.material_slots]
     obj[PAINTED_KEY] = painted.name
-    if normal_map:
-        remove_relief(obj)
-    else:
+    remove_relief(obj)
+    if adaptive:
+        canvas.add_adaptive_subdivision(scene, obj)
+    elif not normal_map:
         add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size)
     show_painting(obj, True)
     return painted

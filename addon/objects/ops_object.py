@@ -97,7 +97,7 @@ def _finish(operator, context, obj, size, report):
     """Give the object its painting; report how many strokes went where (or why the maps cannot be shown)."""
     settings = context.scene.paint_relief
     try:
-        object_material.paint_object_look(obj, report["output_dir"], settings.thickness_mm / 1000.0,
+        object_material.paint_object_look(context.scene, obj, report["output_dir"], settings.thickness_mm / 1000.0,
                                           settings.object_relief, size)
     except CanvasError as error:
         operator.report({"ERROR"}, str(error))

@@ -144,7 +144,7 @@ def _remove_modifier(obj, name):
         obj.modifiers.remove(modifier)
 
 
-def _set_object_adaptive(scene, obj, enabled):
+def set_object_adaptive(scene, obj, enabled):
     """Blender 4.2 keeps adaptive subdivision on the object's Cycles settings (experimental)."""
     cycles = getattr(obj, "cycles", None)
     if cycles is not None and hasattr(cycles, "use_adaptive_subdivision"):
@@ -170,7 +170,7 @@ def add_adaptive_subdivision(scene, obj):
         modifier.adaptive_space = "PIXEL"
         modifier.adaptive_pixel_size = ADAPTIVE_PIXEL_SIZE
     else:
-        _set_object_adaptive(scene, obj, True)
+        set_object_adaptive(scene, obj, True)
     return modifier
 
 
@@ -268,7 +268,7 @@ def canvas_from_images(context, folder, images, width_cm, thickness_mm, method):
     material = canvas_material(material, images, thickness, connect, normal_map)
     mesh.materials.append(material)
 
-    _set_object_adaptive(scene, obj, False)
+    set_object_adaptive(scene, obj, False)
     if method == "CYCLES_ADAPTIVE":
         _remove_modifier(obj, DISPLACE_MODIFIER)
         set_material_displacement(material, "DISPLACEMENT")

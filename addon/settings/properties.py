@@ -423,6 +423,8 @@ class PaintReliefSettings(PropertyGroup):
             ("DISPLACE", "Displace", "A simple Subdivision Surface and a Displace modifier move the surface along "
              "its normals by the paint's height"),
             ("NORMAL_MAP", "Normal Map", "The painter's normal map shades the surface; its geometry stays"),
+            ("CYCLES_ADAPTIVE", "Cycles Displacement", "Cycles moves the surface along its normals by the "
+             "material's Displacement at render time, subdivided adaptively (renders in Cycles only)"),
         ),
         default="DISPLACE",
     )

@@ -86,6 +86,29 @@ def original_material_back():
 
 
 @check
+def sphere_with_cycles_displacement():
+    """The sphere's relief as Cycles' material displacement, then back to the Displace modifier."""
+    from paint_relief.addon.objects import object_material
+
+    scene, sphere = bpy.context.scene, bpy.data.objects["Sphere"]
+    material = object_material.paint_object_look(scene, sphere, settings.object_output_dir, 0.002,
+                                                 "CYCLES_ADAPTIVE", 1024)
+    output = next(node for node in material.node_tree.nodes if node.bl_idname == "ShaderNodeOutputMaterial")
+    method = getattr(material, "displacement_method", None) or material.cycles.displacement_method
+    subdivision = sphere.modifiers["Paint Relief Subdivision"]
+    adaptive = (subdivision.use_adaptive_subdivision if hasattr(subdivision, "use_adaptive_subdivision")
+                else sphere.cycles.use_adaptive_subdivision)
+    found = {"modifiers": [(m.name, m.type) for m in sphere.modifiers], "method": method, "adaptive": adaptive,
+             "displacement_linked": [link.from_node.bl_idname for link in output.inputs["Displacement"].links]}
+    object_material.paint_object_look(scene, sphere, settings.object_output_dir, 0.002, "DISPLACE", 1024)
+    found["then_modifiers"] = [(m.name, m.type) for m in sphere.modifiers]
+    output = next(node for node in material.node_tree.nodes if node.bl_idname == "ShaderNodeOutputMaterial")
+    found["then_linked"] = [link.from_node.bl_idname for link in output.inputs["Displacement"].links]
+    found["then_method"] = getattr(material, "displacement_method", None) or material.cycles.displacement_method
+    return found
+
+
+@check
 def monkey_without_uvs():
     bpy.ops.object.select_all(action="DESELECT")
     bpy.ops.mesh.primitive_monkey_add(size=1.0, location=(2.0, 0.0, 0.0))
