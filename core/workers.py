@@ -22,6 +22,8 @@ from . import tuning
 
 _pool = None
 _pool_lock = threading.Lock()
+POOL_PREFIX = "paint-relief-worker"
+"""The names of the worker threads begin with this."""
 
 
 def worker_count() -> int:
@@ -62,13 +64,15 @@ def balanced_runs(cost: np.ndarray, parts: int, least: float) -> List[tuple]:
 
 
 def run_all(work: Callable, items: Sequence) -> list:
-    """[work(item) for item in items], on the worker threads when there is more than one item."""
+    """[work(item) for item in items], on the worker threads when there is more than one item (in order, in the
+    calling thread, when that is one of the worker threads: a worker waiting for the others could wait for
+    itself)."""
     global _pool
-    if len(items) <= 1:
+    if len(items) <= 1 or threading.current_thread().name.startswith(POOL_PREFIX):
         return [work(item) for item in items]
     with _pool_lock:
         if _pool is None:
-            _pool = ThreadPoolExecutor(worker_count(), thread_name_prefix="paint-relief")
+            _pool = ThreadPoolExecutor(worker_count(), thread_name_prefix=POOL_PREFIX)
     return list(_pool.map(work, items))
 
 

@@ -27,6 +27,7 @@ from core.motion import (
     stillness,
     value_range,
     visible_in_both,
+    warp,
     warp_back,
     warping_error,
 )
@@ -297,3 +298,17 @@ def test_visibility_of_a_motion_out_of_reach_given_directly_is_quiet(value):
     assert not quietly(lambda: round_trip_consistent(uniform((1.0, 0.0)), backward))[:H // 2].any()
     assert quietly(lambda: motion_boundary(forward))[:, W // 2 - 1:W // 2 + 1].all()
     assert not quietly(lambda: still_pixels(forward, backward))[:, :W // 2].any()
+
+
+def test_bilinear_over_many_blocks_of_positions_is_exact_where_the_scene_is_bilinear(monkeypatch):
+    monkeypatch.setattr(warp, "BLOCK_POSITIONS", 1000)
+    y, x = np.mgrid[0:H, 0:W].astype(np.float64)
+    rng = np.random.default_rng(4)
+    places = np.stack([rng.uniform(0, W - 1, (3, 2500)), rng.uniform(0, H - 1, (3, 2500))], axis=-1)
+    colour = np.stack([bilinear_scene(x, y), 1 - bilinear_scene(x, y)], axis=-1)
+    got = bilinear(colour, places)
+    assert got.shape == (3, 2500, 2) and got.dtype == np.float32
+    want = bilinear_scene(places[..., 0], places[..., 1])
+    assert np.abs(got[..., 0] - want).max() < 2e-6 and np.abs(got[..., 1] - (1 - want)).max() < 2e-6
+    monkeypatch.setattr(warp, "BLOCK_POSITIONS", 1 << 20)
+    assert np.array_equal(bilinear(colour, places), got)        # one block: the same bytes

@@ -144,3 +144,15 @@ def test_analysis_in_blocks_of_rows_gives_the_same_bytes_as_in_one_block(monkeyp
     cut = analysed()
     for one, many in zip(whole, cut, strict=True):
         assert one.dtype == np.float32 and one.tobytes() == many.tobytes()
+
+
+def test_run_all_called_from_a_worker_thread_works_in_that_thread_and_in_order():
+    def inner(i):
+        return threading.current_thread().name
+
+    def outer(i):
+        return i, workers.run_all(inner, list(range(4)))
+
+    for _, names in workers.run_all(outer, list(range(8))):       # every worker waits for work of its own
+        if workers.worker_count() > 1:
+            assert len(set(names)) == 1 and names[0].startswith(workers.POOL_PREFIX)

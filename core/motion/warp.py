@@ -19,6 +19,11 @@ from typing import Tuple
 
 import numpy as np
 
+from ..workers import run_all
+
+BLOCK_POSITIONS = 1 << 16
+"""Positions sampled at a time by ``bilinear``: a block's temporaries (a few MiB) stay in the processor's cache."""
+
 EDGE_TOLERANCE = 1e-3  # px: how far outside the pixel centres a position still counts as in the frame
 
 
@@ -64,11 +69,27 @@ def bilinear(image: np.ndarray, positions: np.ndarray) -> np.ndarray:
     positions: (..., 2) x, y in pixels (pixel centres at whole numbers).
     Returns float32 (...) or (..., C). A position outside the frame takes
     the value at the nearest point of the frame (see ``inside_frame``); a
-    non-finite one the value of pixel (0, 0).
+    non-finite one the value of pixel (0, 0). The positions are taken
+    ``BLOCK_POSITIONS`` at a time on the worker threads: every value is its
+    own four pixels' and none other's, so the bytes are those of one block.
     """
     values = np.asarray(image, dtype=np.float32)
-    height, width = values.shape[:2]
-    p = np.nan_to_num(np.asarray(positions, dtype=np.float32), nan=0.0)
+    places = np.asarray(positions).reshape(-1, 2)
+    out = np.empty((len(places),) + values.shape[2:], np.float32)
+    flat = values.reshape((values.shape[0] * values.shape[1],) + values.shape[2:])
+
+    def block(first: int) -> None:
+        out[first:first + BLOCK_POSITIONS] = bilinear_block(flat, values.shape[:2],
+                                                            places[first:first + BLOCK_POSITIONS])
+
+    run_all(block, range(0, len(places), BLOCK_POSITIONS))
+    return out.reshape(np.shape(positions)[:-1] + values.shape[2:])
+
+
+def bilinear_block(flat: np.ndarray, shape: Tuple[int, int], places: np.ndarray) -> np.ndarray:
+    """``bilinear`` of (N, 2) ``places`` in an (H, W) ``shape`` image flattened to (H * W, ...) float32 ``flat``."""
+    height, width = shape
+    p = np.nan_to_num(np.asarray(places, dtype=np.float32), nan=0.0)
     x = np.clip(p[..., 0], 0.0, width - 1)
     y = np.clip(p[..., 1], 0.0, height - 1)
     x0 = np.floor(x).astype(np.intp)
@@ -77,9 +98,8 @@ def bilinear(image: np.ndarray, positions: np.ndarray) -> np.ndarray:
     y1 = np.minimum(y0 + 1, height - 1)
     fx = x - x0
     fy = y - y0
-    flat = values.reshape((height * width,) + values.shape[2:])
     row0, row1 = y0 * width, y1 * width
-    if values.ndim == 3:
+    if flat.ndim == 2:
         fx, fy = fx[..., None], fy[..., None]
     top = (1.0 - fx) * np.take(flat, row0 + x0, axis=0) + fx * np.take(flat, row0 + x1, axis=0)
     bottom = (1.0 - fx) * np.take(flat, row1 + x0, axis=0) + fx * np.take(flat, row1 + x1, axis=0)
