@@ -25,6 +25,7 @@ from core.api import paint_sequence_files
 from core.errors import Cancelled
 from core.files.frames import find_frames
 from core.files.reading import read_exr, read_image
+from core.files.shot_files import read_report
 from core.files.writing import write_png
 from core.motion import comes_back, visible_in_both
 from core.motion.warp import bilinear, pixel_positions
@@ -42,6 +43,7 @@ from core.sequence.frame_step import (
     unchanged,
 )
 from core.sequence.shot import paint_sequence
+from core.sequence.shot_folder import ShotFolder
 from core.strokes.stroke_list import PAINTING_BRUSH, reaching_rows
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -319,8 +321,11 @@ def test_a_cancelled_sequence_keeps_its_complete_frames_and_goes_on_to_the_same_
         paint_sequence(frames, tmp_path / "part", Params(seed=4), cancel=cancel)
     assert str(caught.value) == (f"The run was cancelled; the frames in {tmp_path / 'part'} are complete, and "
                                  f"painting the sequence again goes on after the last of them.")
+    # asked once frame 2 is committed, as frame 3's maps are written beside frame 4's life: frame 3 is committed too
     assert sorted(p.name for p in (tmp_path / "part").glob("painting_*.png")) == ["painting_0001.png",
-                                                                                 "painting_0002.png"]
+                                                                                 "painting_0002.png",
+                                                                                 "painting_0003.png"]
+    assert ShotFolder(tmp_path / "part").check(read_report(tmp_path / "part")).keep == 3
     paint_sequence(frames, tmp_path / "part", Params(seed=4))
     same_bytes(tmp_path / "part", tmp_path / "whole")
 

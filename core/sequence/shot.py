@@ -19,6 +19,7 @@ sentence and touches nothing.
 
 from __future__ import annotations
 
+import concurrent.futures
 import hashlib
 import json
 import shutil
@@ -241,29 +242,50 @@ class Run:
                 "frames": [], "per_frame": [], "lives": {"file": LIVES_FILE, "bytes": 0}, "complete": False}
 
     def paint_from(self, start: int, report: dict, folder, progress: ProgressFn, cancel: CancelFn) -> None:
-        """Paint frames ``start`` .. the last in this process, committing each, ``report`` kept up to date: each
-        frame's pieces (``pieces.ShotPieces``) one after another, the judging canvas in one band."""
+        """Paint frames ``start`` .. the last in this process, committing each in order, ``report`` kept up to date.
+
+        Each frame's life (``pieces.ShotPieces``: read, motion, carry, the judging canvas in one band, births) is
+        made here, frame after frame, while a side thread lays the frame before as shown and writes its maps
+        (``FrameBehind``); a frame is committed once both are made. When the life of a frame fails or is stopped,
+        the frame before is still committed first (or its own failure raised), so the folder holds the frames that
+        painting one frame after another would have left. Every piece is a function of the pieces it needs, so the
+        bytes are the same as making them one after another."""
         pieces, count = self.pieces(folder.folder, analyse_ahead=False), len(self.frames.paths)
         made: Dict[PieceKey, object] = {}
         if start > 0:
             made[PieceKey(PieceKind.BIRTH, start - 1)] = self.resumed_frame(folder.folder)
             for kind in (PieceKind.PREPARE, PieceKind.SHOWN):
                 self.make(pieces.piece(PieceKey(kind, start - 1)), made, None)
-        for index in range(start, count):
-            stage = Stage(frame_progress(progress, self.frames.numbers[index], index, count), cancel, index / count,
-                          (index + 1) / count)
-            stage.report(0.0, "motion" if index else "painting")
-            for key in pieces.life_start_keys(index):
-                self.make(pieces.piece(key), made, stage)
-            stage.check()
-            bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
-            next_needs = pieces.needed_by_next(index) if index + 1 < count else set()
-            committed = {PieceKey(PieceKind.BIRTH, index), PieceKey(PieceKind.WRITE, index)}
-            self.make_in_order([pieces.piece(key, bands) for key in pieces.life_end_keys(index, bands)], made,
-                               stage, next_needs | committed)
-            self.commit(folder, index, made[PieceKey(PieceKind.BIRTH, index)],
-                        made[PieceKey(PieceKind.WRITE, index)], report)
-            release(made, next_needs)
+        with FrameBehind() as behind:
+            try:
+                for index in range(start, count):
+                    stage = Stage(frame_progress(progress, self.frames.numbers[index], index, count), cancel,
+                                  index / count, (index + 1) / count)
+                    stage.report(0.0, "motion" if index else "painting")
+                    for key in pieces.life_start_keys(index):
+                        self.make(pieces.piece(key), made, stage)
+                    stage.check()
+                    bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
+                    *life, shown, write = [pieces.piece(key, bands) for key in pieces.life_end_keys(index, bands)]
+                    next_needs = pieces.needed_by_next(index) if index + 1 < count else set()
+                    self.make_in_order(life, made, stage, next_needs | set(shown.needs) | set(write.needs))
+                    self.commit_behind(folder, behind, made, report)
+                    behind.start(index, made[PieceKey(PieceKind.BIRTH, index)], shown, write, made)
+                    release(made, next_needs)
+                    stage.check()
+            except BaseException:
+                self.commit_behind(folder, behind, made, report)
+                raise
+            self.commit_behind(folder, behind, made, report)
+
+    def commit_behind(self, folder, behind: "FrameBehind", made: Dict[PieceKey, object], report: dict) -> None:
+        """Commit the frame ``behind`` holds, if any, once its maps are written (its failure raised); its frame as
+        shown stays in ``made`` for the next frame's writing."""
+        done = behind.finished()
+        if done is not None:
+            index, painted, shown_now, written = done
+            made[PieceKey(PieceKind.SHOWN, index)] = shown_now
+            self.commit(folder, index, painted, written, report)
 
     def make_in_order(self, declared: List[Piece], made: Dict[PieceKey, object], stage: Stage,
                       keep: Set[PieceKey]) -> None:
@@ -318,6 +340,46 @@ class Run:
             raise
         report.clear()
         report.update(updated)
+
+
+class FrameBehind:
+    """One frame's SHOWN and WRITE pieces made on a side thread while the next frame's life is made: ``start``
+    hands it the pieces with the results they need, ``finished`` waits for them."""
+
+    def __init__(self):
+        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="paint-relief-frame")
+        self.pending = None
+
+    def __enter__(self) -> "FrameBehind":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.pool.shutdown(wait=True)
+
+    def start(self, index: int, painted: PaintedFrame, shown: Piece, write: Piece,
+              made: Dict[PieceKey, object]) -> None:
+        """Make frame ``index``'s ``shown`` then ``write`` pieces on the side thread from the results in ``made``
+        now (``write`` needs ``shown``'s result, the rest from ``made``); ``painted`` is the frame's strokes."""
+        shown_inputs = [made[key] for key in shown.needs]
+        write_inputs = [None if key == shown.key else made[key] for key in write.needs]
+        at = write.needs.index(shown.key)
+
+        def side():
+            shown_now = shown.make(*shown_inputs)
+            write_inputs[at] = shown_now
+            return shown_now, write.make(*write_inputs)
+
+        self.pending = index, painted, self.pool.submit(side)
+
+    def finished(self):
+        """(index, strokes, the frame as shown, the frame written) of the frame started last, once made (its failure
+        raised), or None when none is pending."""
+        if self.pending is None:
+            return None
+        index, painted, future = self.pending
+        self.pending = None
+        shown_now, written = future.result()
+        return index, painted, shown_now, written
 
 
 def release(made: Dict[PieceKey, object], needed: Set[PieceKey]) -> None:
