@@ -2,7 +2,8 @@
 2-D model, and with its original material.
 
     blender -b --python-exit-code 1 --python sample_scenes/paint_object.py -- [SCENE.blend] --object NAME \\
-        -o OUTDIR [--texture-size N] [--views V] [--samples S] [--resolution PX] [--seed N]
+        -o OUTDIR [--texture-size N] [--views V] [--samples S] [--resolution PX] [--seed N] \\
+        [--relief DISPLACE|CYCLES_ADAPTIVE|NORMAL_MAP]
     .venv/bin/python sample_scenes/paint_object.py [SCENE.blend] --object NAME -o OUTDIR [options]
 
 With no SCENE, the demo scene of ``sample_scenes/object_scene.py`` is built
@@ -82,6 +83,8 @@ def arguments(argv):
     parser.add_argument("--samples", type=int, default=16, metavar="S", help="Cycles samples (default 16)")
     parser.add_argument("--resolution", type=int, default=384, metavar="PX", help="square render size (default 384)")
     parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
+    parser.add_argument("--relief", default="DISPLACE", choices=("DISPLACE", "CYCLES_ADAPTIVE", "NORMAL_MAP"),
+                        help="how the paint's thickness shows on the object, as the panel's Relief (default DISPLACE)")
     args = parser.parse_args(argv[argv.index("--") + 1:] if "--" in argv else argv[1:])
     if args.views < 2 or args.samples < 1 or args.resolution < 16:
         parser.error("the turntable needs at least 2 views, 1 sample and 16 px")
@@ -123,6 +126,7 @@ def paint(obj, args, maps):
     settings.object_texture_size = str(args.texture_size)
     settings.object_output_dir = str(maps)
     settings.seed = args.seed
+    settings.object_relief = args.relief
     try:
         result = bpy.ops.paint_relief.paint_object()
     except RuntimeError as error:
@@ -381,7 +385,7 @@ def main(argv):
         object_material.show_painting(obj, True)
         step("figures")
         figures = film_figures(core, films, out, views, len(seams))
-        summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views,
+        summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views, "relief": args.relief,
                    "stroke_mm": report["stroke_mm"], "islands": report["islands"],
                    "texture_seam_steps": report["seam_steps"], **figures}
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")

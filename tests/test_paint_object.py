@@ -85,11 +85,13 @@ def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measure
     need_bpy()
     script = Path(__file__).resolve().parents[1] / "sample_scenes" / "paint_object.py"
     run = subprocess.run([sys.executable, str(script), "-o", str(tmp_path / "out"), "--views", "3", "--samples", "2",
-                          "--resolution", "48", "--texture-size", "1024"], capture_output=True, text=True,
+                          "--resolution", "48", "--texture-size", "1024", "--relief", "CYCLES_ADAPTIVE"],
+                         capture_output=True, text=True,
                          timeout=600, cwd=tmp_path, env=dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user")))
     assert run.returncode == 0, run.stderr[-3000:]
     out = tmp_path / "out"
     summary = json.loads((out / "object.json").read_text())
+    assert summary["relief"] == "CYCLES_ADAPTIVE"
     spans = sorted(island["texel_mm"] for island in summary["islands"])
     assert len(spans) == 6 and spans[-1] / spans[0] == pytest.approx(4.0, rel=0.01)
     for film in ("relit", "paper", "original", "side_by_side"):
