@@ -11,8 +11,10 @@ then prints a table of both side by side:
 - seconds per frame: each whole command's wall time over its frames, the
   median of --runs for `core batch` and of --sequence-runs for `core
   sequence`, and the ratio sequence / alone; then the sequence's stages from its
-  report.json ("seconds", totals over the clip, shown per frame; "other" is
-  the wall time outside them: start-up, imports, reading, writing);
+  report.json ("seconds", totals over the clip, shown per frame), and the
+  wall time over their sum: below 1 where stages overlap (a frame shown and
+  written beside the next frame's life), above where start-up and imports
+  weigh;
 - peak resident memory (ru_maxrss of the child, from os.wait4);
 - strokes per frame (report.json "strokes" alone; the sequence's per_frame
   "alive", and its "born" and "died" after the first frame, which is painted as a still);
@@ -488,7 +490,7 @@ def main() -> None:
               f"{wall / sides['alone']['clip_seconds']:.2f} (the issue asks <= 0.5)")
         stages = report["seconds"]
         print("sequence stages, s per frame: " + ", ".join(f"{k} {v / n:.2f}" for k, v in stages.items())
-              + f", other {(wall - sum(stages.values())) / n:.2f}")
+              + f"; wall time / their sum {wall / sum(stages.values()):.2f}")
         w = report["warping_error"]
         height_ratio = w.get("height_ratio", ratio(w["height"], w["footage"]))
         print(f"sequence report.json warping error ({report['motion']}): footage {figure(w['footage'], 5)}, "
