@@ -13,7 +13,7 @@ from oracles import one_sentence
 
 from core.colour import luminance
 from core.errors import InputError, OutputError
-from core.files import reading, writing
+from core.files import quiet, reading, writing
 
 CANVAS = (0.93, 0.90, 0.84)
 
@@ -474,3 +474,32 @@ def test_exif_orientation_is_honoured(tmp_path):
     assert np.array_equal(upright(grid, 8)[..., 0], [[2, 5], [1, 4], [0, 3]])
     assert np.array_equal(upright(grid, 7)[..., 0], [[5, 2], [4, 1], [3, 0]])
     assert np.array_equal(upright(grid, 3)[..., 0], [[5, 4, 3], [2, 1, 0]])
+
+
+def test_library_messages_printed_in_a_thread_whose_capture_began_inside_anothers_reach_no_terminal(capfd,
+                                                                                                     monkeypatch):
+    """Descriptor 2 is the process's: a block that starts while another thread captures joins that capture and
+    keeps it open until it ends itself, so what it prints after the first block ended is still captured."""
+    import threading
+
+    monkeypatch.setattr(quiet, "_enabled", True)
+    first_inside, first_done = threading.Event(), threading.Event()
+    texts = {}
+
+    def first():
+        with quiet.captured() as printed:
+            os.write(2, b"first\n")
+            first_inside.set()
+            first_done.wait(10)
+        texts["first"] = printed.text
+
+    thread = threading.Thread(target=first)
+    thread.start()
+    first_inside.wait(10)
+    with quiet.captured() as printed:
+        first_done.set()
+        thread.join(10)
+        os.write(2, b"second, after the first block ended\n")
+    assert texts["first"] == "first\n" and printed.text == "second, after the first block ended\n"
+    os.write(2, b"after every block\n")
+    assert capfd.readouterr().err == "after every block\n"

@@ -2,8 +2,9 @@
 
 libpng, libjpeg and OpenEXR write warnings and errors straight to the
 process's standard error (file descriptor 2), outside Python. Inside
-``captured()`` descriptor 2 points at a temporary file; the text lands in
-the yielded ``Captured`` and callers fold it into their message. Capturing
+``captured()`` descriptor 2 points at a temporary file, shared by the
+blocks of every thread; the text lands in the yielded ``Captured`` and
+callers fold it into their message. Capturing
 is switched on by ``enable()`` (the command line does, as it owns its
 process); elsewhere (inside Blender, where other threads write to the same
 descriptor) ``captured()`` captures nothing.
@@ -35,32 +36,59 @@ class Captured:
         self.text = ""
 
 
+class _Sink:
+    """Descriptor 2 pointed at a temporary file while any thread is inside ``captured()``: how many are (``users``),
+    the file and the descriptor 2 to give back."""
+
+    def __init__(self) -> None:
+        self.users, self.file, self.saved = 0, None, -1
+
+    def enter(self) -> int:
+        """Join the capture, starting it for the first user; the file's length now (where this user's text
+        starts)."""
+        if self.users == 0:
+            try:
+                sys.stderr.flush()
+            except (AttributeError, ValueError, OSError):
+                pass
+            self.file = tempfile.TemporaryFile()
+            self.saved = os.dup(2)
+            os.dup2(self.file.fileno(), 2)
+        self.users += 1
+        return os.fstat(self.file.fileno()).st_size
+
+    def leave(self, start: int) -> str:
+        """Leave the capture, ending it for the last user; what was printed since ``start``."""
+        self.file.seek(start)
+        text = self.file.read(65536).decode("utf-8", errors="replace")
+        self.users -= 1
+        if self.users == 0:
+            os.dup2(self.saved, 2)
+            os.close(self.saved)
+            self.file.close()
+            self.file, self.saved = None, -1
+        return text
+
+
+_sink = _Sink()
+
+
 @contextlib.contextmanager
 def captured() -> Iterator[Captured]:
     """Point descriptor 2 at a temporary file for the block when capturing is on; yield what was printed.
 
-    Descriptor 2 belongs to the whole process: while one thread captures,
-    a block in another thread captures nothing itself (what it prints lands
-    in the first thread's capture) instead of waiting for it.
+    Descriptor 2 belongs to the whole process: blocks in several threads share one capture, which ends when the
+    last of them does, so nothing a library prints inside any block reaches the terminal. A block's text is all
+    that was printed while it ran, in any thread.
     """
     result = Captured()
-    if not _enabled or not _lock.acquire(blocking=False):
+    if not _enabled:
         yield result
         return
+    with _lock:
+        start = _sink.enter()
     try:
-        try:
-            sys.stderr.flush()
-        except (AttributeError, ValueError, OSError):
-            pass
-        saved = os.dup(2)
-        with tempfile.TemporaryFile() as sink:
-            os.dup2(sink.fileno(), 2)
-            try:
-                yield result
-            finally:
-                os.dup2(saved, 2)
-                os.close(saved)
-                sink.seek(0)
-                result.text = sink.read(65536).decode("utf-8", errors="replace")
+        yield result
     finally:
-        _lock.release()
+        with _lock:
+            result.text = _sink.leave(start)
