@@ -755,6 +755,18 @@ def test_stale_staging_is_removed_by_the_next_run(inputs, folder):
     assert check_painting(out) == "2" and hidden_leftovers(out) == []
 
 
+def test_a_temporary_file_a_killed_writer_left_is_removed_by_the_next_run(inputs, folder):
+    """The lives file of a shot is written in the folder itself, through a temporary file: a run killed while
+    writing it leaves that file, which the next run into the folder removes; a file of the user's that only looks
+    alike stays."""
+    out, _ = folder
+    (out / ".strokes.tmp-31275-8fe4e4e0.lives").write_bytes(b"half a record")
+    (out / ".notes.tmp-old.txt").write_text("the user's")
+    assert main(["paint", str(inputs / "photo.png"), "-o", str(out), "-q", "--seed", "2"]) == 0
+    assert not (out / ".strokes.tmp-31275-8fe4e4e0.lives").exists()
+    assert (out / ".notes.tmp-old.txt").read_text() == "the user's"
+
+
 def test_interrupted_commit_is_completed_by_the_next_run(inputs, folder, tmp_path):
     """A journal left mid-commit (SIGKILL after the commit point) is rolled forward before anything else."""
     out, _ = folder

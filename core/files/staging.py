@@ -41,6 +41,7 @@ from typing import Iterator, List, Optional
 
 from ..errors import OutputError, plain_cause
 from . import folderlock, signals
+from .writing import is_temporary_name
 
 STAGING_PREFIX = ".staging-"
 JOURNAL_NAME = ".paint-relief-commit.json"
@@ -104,7 +105,9 @@ def recover(folder: pathlib.Path) -> None:
     journal that cannot be parsed cannot have been committed (the journal
     appears by one rename of a complete file) and is removed. Then every
     ``.staging-*`` folder, journal temporary and write probe left in
-    ``folder`` is removed. Raises OutputError when a committed run cannot be
+    ``folder`` is removed, and every temporary file a writer killed midway
+    left there (``writing.is_temporary_name``: the lives file is written in
+    the folder itself). Raises OutputError when a committed run cannot be
     completed.
     """
     folder = pathlib.Path(folder)
@@ -132,7 +135,8 @@ def recover(folder: pathlib.Path) -> None:
         for entry in entries:
             if entry.name.startswith(STAGING_PREFIX) and entry.is_dir(follow_symlinks=False):
                 shutil.rmtree(entry.path, ignore_errors=True)
-            elif entry.name.startswith((_JOURNAL_TEMP_PREFIX, PROBE_PREFIX)):
+            elif entry.name.startswith((_JOURNAL_TEMP_PREFIX, PROBE_PREFIX)) or (
+                    is_temporary_name(entry.name) and entry.is_file(follow_symlinks=False)):
                 with contextlib.suppress(OSError):
                     os.unlink(entry.path)
 

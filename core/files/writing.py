@@ -14,6 +14,7 @@ import json
 import math
 import os
 import pathlib
+import re
 import secrets
 from dataclasses import dataclass
 from typing import Callable, Dict, Iterator, Optional, Sequence, Tuple, Union
@@ -50,6 +51,15 @@ def atomic_path(path: PathLike) -> Iterator[pathlib.Path]:
         _remove_quietly(temp)
         cause = plain_cause(exc)
         raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause) from exc
+
+
+TEMPORARY_NAME = re.compile(r"\.[^/]+\.tmp-[0-9]+-[0-9a-f]{8}(\.[^./]+)?")
+"""The names ``atomic_path`` gives its temporary files: what a process killed while writing leaves."""
+
+
+def is_temporary_name(name: str) -> bool:
+    """Whether the file name ``name`` is one of ``atomic_path``'s temporary files (``TEMPORARY_NAME``)."""
+    return TEMPORARY_NAME.fullmatch(name) is not None
 
 
 def _remove_quietly(path: pathlib.Path) -> None:
