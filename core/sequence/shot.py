@@ -42,7 +42,7 @@ from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
 from .frame_step import PaintedFrame
 from .frame_work import WrittenFrame
-from .pieces import Piece, PieceKey, PieceKind, ShotPieces, judging_bands
+from .pieces import Piece, PieceKey, PieceKind, ShotPieces, analysed_ahead, judging_bands
 from .shot_folder import Resume, ShotFolder
 from .shot_settings import ShotSettings
 from .state import STATE_FILE, load_state, save_state
@@ -245,25 +245,33 @@ class Run:
         """Paint frames ``start`` .. the last in this process, committing each in order, ``report`` kept up to date.
 
         Each frame's life (``pieces.ShotPieces``: read, motion, carry, the judging canvas in one band, births) is
-        made here, frame after frame, while a side thread lays the frame before as shown and writes its maps
-        (``FrameBehind``); a frame is committed once both are made. When the life of a frame fails or is stopped,
-        the frame before is still committed first (or its own failure raised), so the folder holds the frames that
-        painting one frame after another would have left. Every piece is a function of the pieces it needs, so the
-        bytes are the same as making them one after another."""
+        made here, frame after frame. Beside it, one side thread reads the next frame, finds the motion to it and
+        analyses it when its picture changed (``FrameAhead``), and another lays the frame before as shown and
+        writes its maps (``FrameBehind``); a frame is committed once its life and its maps are made. When the life
+        of a frame fails or is stopped, the frame before is still committed first (or its own failure raised), so
+        the folder holds the frames that painting one frame after another would have left; the next frame's
+        reading fails, if it does, only once this frame is committed. Every piece is a function of the pieces it
+        needs, so the bytes are the same as making them one after another."""
         pieces, count = self.pieces(folder.folder, analyse_ahead=False), len(self.frames.paths)
         made: Dict[PieceKey, object] = {}
         if start > 0:
             made[PieceKey(PieceKind.BIRTH, start - 1)] = self.resumed_frame(folder.folder)
             for kind in (PieceKind.PREPARE, PieceKind.SHOWN):
                 self.make(pieces.piece(PieceKey(kind, start - 1)), made, None)
-        with FrameBehind() as behind:
+        with FrameBehind() as behind, FrameAhead() as ahead:
             try:
                 for index in range(start, count):
                     stage = Stage(frame_progress(progress, self.frames.numbers[index], index, count), cancel,
                                   index / count, (index + 1) / count)
                     stage.report(0.0, "motion" if index else "painting")
-                    for key in pieces.life_start_keys(index):
-                        self.make(pieces.piece(key), made, stage)
+                    made.update(ahead.finished())
+                    *reading, carry = pieces.life_start_keys(index)
+                    for key in reading:
+                        if key not in made:
+                            self.make(pieces.piece(key), made, stage)
+                    if index + 1 < count:
+                        ahead.start(pieces, index + 1, made, cancel)
+                    self.make(pieces.piece(carry), made, stage)
                     stage.check()
                     bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
                     *life, shown, write = [pieces.piece(key, bands) for key in pieces.life_end_keys(index, bands)]
@@ -380,6 +388,44 @@ class FrameBehind:
         self.pending = None
         shown_now, written = future.result()
         return index, painted, shown_now, written
+
+
+class FrameAhead:
+    """The next frame's PREPARE and MOTION pieces made on a side thread while this frame's life is made, with the
+    frame's analysis when its picture differs from the frame before's (``pieces.analysed_ahead``): ``start``
+    hands it the pieces, ``finished`` waits for them."""
+
+    def __init__(self):
+        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="paint-relief-ahead")
+        self.pending = None
+
+    def __enter__(self) -> "FrameAhead":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.pool.shutdown(wait=True)
+
+    def start(self, pieces: ShotPieces, index: int, made: Dict[PieceKey, object], cancel: CancelFn) -> None:
+        """Make frame ``index``'s PREPARE and MOTION pieces (``index`` >= 1) on the side thread, the frame before's
+        PREPARE result taken from ``made`` now; ``cancel`` stops the analysis."""
+        prepare = pieces.piece(PieceKey(PieceKind.PREPARE, index))
+        motion = pieces.piece(PieceKey(PieceKind.MOTION, index))
+        before = made[PieceKey(PieceKind.PREPARE, index - 1)]
+
+        def side() -> Dict[PieceKey, object]:
+            prepared = prepare.make()
+            moved = motion.make(before, prepared)
+            return {prepare.key: analysed_ahead(pieces.shot, prepared, moved, cancel), motion.key: moved}
+
+        self.pending = self.pool.submit(side)
+
+    def finished(self) -> Dict[PieceKey, object]:
+        """{key: result} of the pieces started last, once made (their failure raised); empty when none is
+        pending."""
+        if self.pending is None:
+            return {}
+        future, self.pending = self.pending, None
+        return future.result()
 
 
 def release(made: Dict[PieceKey, object], needed: Set[PieceKey]) -> None:
