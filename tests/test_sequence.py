@@ -339,11 +339,13 @@ def test_one_folder_given_as_a_path_is_the_shot_given_in_a_list(tmp_path):
     same_bytes(tmp_path / "path", tmp_path / "listed")
 
 
-def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole():
+@pytest.mark.parametrize("renderer", ["bristles", "lines"])
+def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole(renderer):
     """A cluster lays a frame's judging canvas in bands of rows side by side: each band lays only the strokes that
-    reach it (``reaching_rows``), and the bands joined are the same bytes as every stroke laid on one canvas."""
+    reach it (``reaching_rows``) on its own rows, and the bands joined are the same bytes as every stroke laid on
+    one canvas."""
     shape, step = (96, 128), (2.5, 1.5)
-    params = Params(seed=3, stroke_sizes=(32, 16, 8, 4))
+    params = Params(seed=3, stroke_sizes=(32, 16, 8, 4), renderer=renderer)
     first = first_frame(moved_photo(shape, (0, 0)), params, 3, NO_STAGE)
     image = moved_photo(shape, (-step[0], -step[1]))
     carried = carried_frame(first, image, uniform_motion(shape, step), params, analyse_frame(image, params))
@@ -352,6 +354,7 @@ def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole():
         bands = list(zip(cuts[:-1], cuts[1:], strict=True))
         parts = [settled_rows(carried, params, shape, rows) for rows in bands]
         assert all(reaching_rows(carried.living.strokes, *rows).mean() < 0.95 for rows in bands if rows[1] - rows[0] < 40)
+        assert all(part.canvas.height.shape == (stop - first, shape[1]) for part, (first, stop) in zip(parts, bands, strict=True))
         joined = joined_rows(parts[::-1])
         for name in ("colour", "coverage", "height", "opacity"):
             assert getattr(joined, name).tobytes() == getattr(whole, name).tobytes(), (cuts, name)

@@ -170,10 +170,12 @@ def settled_rows(carried: CarriedFrame, params: Params, shape: tuple, rows: Tupl
     are not dying laid at full contact on a blank canvas (only those that reach the rows: ``reaching_rows``)."""
     clock = time.perf_counter()
     strokes = carried.living.settled().strokes
-    canvas = Canvas.blank(shape, params.canvas_colour)
-    lay_strokes(canvas, strokes.subset(reaching_rows(strokes, *rows)), frame_tips(params, carried.sizes), params)
     first, stop = rows
-    if (first, stop) != (0, shape[0]):
+    whole = (first, stop) == (0, shape[0])
+    lines = params.renderer == "lines"                  # solid lines are drawn on a whole frame
+    canvas = Canvas.blank(shape, params.canvas_colour, None if whole or lines else rows)
+    lay_strokes(canvas, strokes.subset(reaching_rows(strokes, *rows)), frame_tips(params, carried.sizes), params)
+    if lines and not whole:
         canvas = Canvas(*(np.ascontiguousarray(values[first:stop]) for values in
                           (canvas.colour, canvas.coverage, canvas.height, canvas.opacity)))
     return CanvasRows(first, canvas, time.perf_counter() - clock)

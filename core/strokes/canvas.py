@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -13,27 +14,40 @@ from .compositing import Footprints
 
 @dataclass
 class Canvas:
-    """Painted state of an (H, W) canvas.
+    """Painted state of an (H, W) canvas, or of H rows of a taller frame.
 
     colour:   float32 (H, W, 3) sRGB [0, 1]; starts as the canvas colour.
     coverage: float32 (H, W) [0, 1]; 1 - prod(1 - I) of every bristle that touched a pixel.
     height:   float32 (H, W) >= 0; paint height, 1 = one full bristle's contact.
     opacity:  float32 (H, W) [0, 1]; accumulated stroke opacity.
+    first_row: the frame's row that row 0 holds; frame_height: the frame's rows (None: H, the canvas is the frame).
+    Strokes are placed in the frame, and only what they lay on the canvas's rows is laid (``lay``).
     """
 
     colour: np.ndarray
     coverage: np.ndarray
     height: np.ndarray
     opacity: np.ndarray
+    first_row: int = 0
+    frame_height: Optional[int] = None
 
     @classmethod
-    def blank(cls, shape: tuple, canvas_colour) -> "Canvas":
-        """A bare canvas of (H, W) = ``shape`` in ``canvas_colour`` (sRGB triple)."""
-        h, w = shape
+    def blank(cls, shape: tuple, canvas_colour, rows: Optional[Tuple[int, int]] = None) -> "Canvas":
+        """A bare canvas of (H, W) = ``shape`` in ``canvas_colour`` (sRGB triple); with ``rows`` = (first, stop),
+        of those rows of an (H, W) frame only."""
+        frame_height, w = shape
+        first, stop = rows or (0, frame_height)
+        h = stop - first
         colour = np.empty((h, w, 3), dtype=np.float32)
         colour[...] = np.asarray(canvas_colour, dtype=np.float32)
         zeros = lambda: np.zeros((h, w), dtype=np.float32)  # noqa: E731
-        return cls(colour, zeros(), zeros(), zeros())
+        return cls(colour, zeros(), zeros(), zeros(), first, None if rows is None else frame_height)
+
+    @property
+    def frame_shape(self) -> tuple:
+        """(frame height, W): the shape of the frame strokes are placed in."""
+        h, w = self.height.shape
+        return (self.frame_height or h, w)
 
     def lay(self, footprints: Footprints | list, height_mode: str, build: float, kept: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
@@ -58,14 +72,29 @@ class Canvas:
             if part.pixel.size == 0 or (part_kept is not None and not part_kept.any()):
                 continue
             laid = None if part_kept is None or part_kept.all() else np.repeat(part_kept, counts)
-            pieces.append(((part.pixel, part.transmittance, part.paint, part.deposit, part.height,
-                            np.repeat(inverse_full(part.full), counts)), laid))
+            entries = (part.pixel, part.transmittance, part.paint, part.deposit, part.height,
+                       np.repeat(inverse_full(part.full), counts))
+            if self.frame_height is not None:
+                entries, laid = self.in_rows(entries, laid)
+            pieces.append((entries, laid))
         if not pieces:
             return
         bands = row_bands([entries[0] for entries, _ in pieces], [laid for _, laid in pieces], self.height.shape,
                           worker_count(), tuning.LAY_LEAST_ENTRIES)
         run_all(lambda rows: self._lay_entries(*band_entries(pieces, rows, self.height.shape), height_mode, build),
                 bands)
+
+    def in_rows(self, entries: tuple, laid: Optional[np.ndarray]) -> tuple:
+        """(entries, laid) of a piece of footprints placed in the frame (pixel (E,) the frame's flat index, then
+        the value arrays; laid (E,) bool or None) kept to the canvas's rows, pixel made the canvas's flat index."""
+        h, w = self.height.shape
+        pixel = entries[0]
+        inside = (pixel >= self.first_row * w) & (pixel < (self.first_row + h) * w)
+        if laid is not None:
+            inside &= laid
+        picked = np.flatnonzero(inside)
+        kept = tuple(np.take(values, picked, axis=0) for values in entries)
+        return (kept[0] - self.first_row * w,) + kept[1:], None
 
     def _lay_entries(self, pixel: np.ndarray, transmittance: np.ndarray, paint: np.ndarray, deposit: np.ndarray,
                      raised: np.ndarray, inverse: np.ndarray, height_mode: str, build: float) -> None:

@@ -240,6 +240,8 @@ def lay_round(canvas: Canvas, plan: RoundPlan, size: int, tip: BrushTip, params:
     """Lay a plan's strokes on ``canvas`` in order (a solid line's opacity is its ``plan.contact``)."""
     paths = plan.paths
     if params.renderer == "lines":
+        if canvas.frame_height is not None:
+            raise ValueError("solid lines are drawn on a whole frame, not on some of its rows")
         every = max(1, int(size) // 4)
         alphas = np.ones(len(paths.first)) if plan.contact is None else plan.contact.astype(np.float64)
         for i in range(len(paths.first)):
@@ -248,7 +250,7 @@ def lay_round(canvas: Canvas, plan: RoundPlan, size: int, tip: BrushTip, params:
             solid_stroke(canvas, line, 0.5 * size, plan.anchor_colours[i], float(alphas[i]), params.height_mode,
                          params.height_build)
         return
-    canvas.lay(footprint_runs(plan, size, tip, params, canvas.height.shape), params.height_mode,
+    canvas.lay(footprint_runs(plan, size, tip, params, canvas.frame_shape), params.height_mode,
                params.height_build)
 
 
