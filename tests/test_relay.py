@@ -46,12 +46,16 @@ def changed_list(strokes: StrokeList, seed: int):
     return before, now, changed, gone
 
 
+@pytest.mark.parametrize("most", [1.0, 0.0])        # laid again on the marked tiles whatever their share; anew
+@pytest.mark.parametrize("renderer", ["bristles", "lines"])
 @pytest.mark.parametrize("tile", [4, 13, 32, 1000])
 @pytest.mark.parametrize("seed", [1, 2])
-def test_a_canvas_laid_again_where_strokes_changed_is_the_new_list_laid_anew(seed, tile, monkeypatch):
+def test_a_canvas_laid_again_where_strokes_changed_is_the_new_list_laid_anew(seed, tile, renderer, most, monkeypatch):
     monkeypatch.setattr(tuning, "RELAY_TILE", tile)
+    monkeypatch.setattr(tuning, "RELAY_MOST_MARKED", most)
     image = photo(seed, 70, 90, "blocks")
-    params = Params(seed=seed, stroke_sizes=(16, 8, 4), layers=2, detail_pass=True, size_reference_megapixels=0.0063)
+    params = Params(seed=seed, stroke_sizes=(16, 8, 4), layers=2, detail_pass=True, size_reference_megapixels=0.0063,
+                    renderer=renderer)
     strokes = recorded(image, params).stroke_list
     before, now, changed, gone = changed_list(strokes, seed)
     shape = image.shape[:2]
@@ -70,6 +74,7 @@ def test_a_canvas_laid_again_where_strokes_changed_is_the_new_list_laid_anew(see
         map_bytes(unclipped(strokes, shape, params))
     assert map_bytes(relaid(last, np.zeros((0, 4)), strokes, tips, params)) != \
         map_bytes(unclipped(strokes, shape, params))
+
 
 def test_no_change_lays_nothing_again_and_returns_a_copy():
     image = photo(3, 40, 50, "blocks")

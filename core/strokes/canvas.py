@@ -22,6 +22,7 @@ class Canvas:
     opacity:  float32 (H, W) [0, 1]; accumulated stroke opacity.
     first_row: the frame's row that row 0 holds; frame_height: the frame's rows (None: H, the canvas is the frame).
     Strokes are placed in the frame, and only what they lay on the canvas's rows is laid (``lay``).
+    only: (H, W) bool, the pixels strokes are laid on, the others keeping what they hold (None: every pixel).
     """
 
     colour: np.ndarray
@@ -30,6 +31,7 @@ class Canvas:
     opacity: np.ndarray
     first_row: int = 0
     frame_height: Optional[int] = None
+    only: Optional[np.ndarray] = None
 
     @classmethod
     def blank(cls, shape: tuple, canvas_colour, rows: Optional[Tuple[int, int]] = None) -> "Canvas":
@@ -74,8 +76,8 @@ class Canvas:
             laid = None if part_kept is None or part_kept.all() else np.repeat(part_kept, counts)
             entries = (part.pixel, part.transmittance, part.paint, part.deposit, part.height,
                        np.repeat(inverse_full(part.full), counts))
-            if self.frame_height is not None:
-                entries, laid = self.in_rows(entries, laid)
+            if self.frame_height is not None or self.only is not None:
+                entries, laid = self.laid_here(entries, laid)
             pieces.append((entries, laid))
         if not pieces:
             return
@@ -84,17 +86,19 @@ class Canvas:
         run_all(lambda rows: self._lay_entries(*band_entries(pieces, rows, self.height.shape), height_mode, build),
                 bands)
 
-    def in_rows(self, entries: tuple, laid: Optional[np.ndarray]) -> tuple:
-        """(entries, laid) of a piece of footprints placed in the frame (pixel (E,) the frame's flat index, then
-        the value arrays; laid (E,) bool or None) kept to the canvas's rows, pixel made the canvas's flat index."""
+    def laid_here(self, entries: tuple, laid: Optional[np.ndarray]) -> tuple:
+        """(entries, None): the entries of a piece of footprints placed in the frame (pixel (E,) the frame's flat
+        index, then the value arrays; ``laid`` (E,) bool or None, those laid) that fall on the canvas's rows and on
+        its ``only`` pixels, pixel made the canvas's flat index."""
         h, w = self.height.shape
-        pixel = entries[0]
-        inside = (pixel >= self.first_row * w) & (pixel < (self.first_row + h) * w)
+        pixel = entries[0] - self.first_row * w
+        inside = (pixel >= 0) & (pixel < h * w)
+        if self.only is not None:
+            inside &= np.take(self.only.reshape(-1), np.where(inside, pixel, 0))
         if laid is not None:
             inside &= laid
         picked = np.flatnonzero(inside)
-        kept = tuple(np.take(values, picked, axis=0) for values in entries)
-        return (kept[0] - self.first_row * w,) + kept[1:], None
+        return (np.take(pixel, picked),) + tuple(np.take(values, picked, axis=0) for values in entries[1:]), None
 
     def _lay_entries(self, pixel: np.ndarray, transmittance: np.ndarray, paint: np.ndarray, deposit: np.ndarray,
                      raised: np.ndarray, inverse: np.ndarray, height_mode: str, build: float) -> None:

@@ -5,8 +5,10 @@ and nothing else (``Canvas.lay``). A canvas that some list of strokes was
 laid on therefore already holds, at every pixel no changed stroke reaches,
 what laying the changed list gives there. ``relaid`` cuts the canvas into
 square tiles, marks the tiles that the changed strokes' boxes
-(``segment_boxes``) touch, lays every stroke of the new list that reaches a
-marked tile on a blank canvas, and copies the marked tiles from it.
+(``segment_boxes``) touch, makes the marked tiles blank and lays on them,
+and on them only (``Canvas.only``), every stroke of the new list that
+reaches one. When most tiles are marked it lays the new list anew
+(``tuning.RELAY_MOST_MARKED``).
 """
 
 from __future__ import annotations
@@ -33,14 +35,26 @@ def relaid(laid: Canvas, changed: np.ndarray, strokes: StrokeList, tips: Dict[Tu
     marked = tiles_touched(changed, shape, tuning.RELAY_TILE)
     if not marked.any():
         return canvas
-    patch = Canvas.blank(shape, params.canvas_colour)
     boxes, owner = segment_boxes(strokes)
     reaching = np.zeros(len(strokes), bool)
     reaching[owner[touching(marked, boxes, shape, tuning.RELAY_TILE)]] = True
-    lay_strokes(patch, strokes.subset(reaching), tips, params)
+    if marked.mean() > tuning.RELAY_MOST_MARKED:
+        canvas = Canvas.blank(shape, params.canvas_colour)
+        lay_strokes(canvas, strokes, tips, params)
+        return canvas
     pixels = np.repeat(np.repeat(marked, tuning.RELAY_TILE, axis=0), tuning.RELAY_TILE, axis=1)[:shape[0], :shape[1]]
-    for name in ("colour", "coverage", "height", "opacity"):
-        getattr(canvas, name)[pixels] = getattr(patch, name)[pixels]
+    if params.renderer == "lines":              # solid lines are drawn on every pixel: on a blank canvas, copied
+        patch = Canvas.blank(shape, params.canvas_colour)
+        lay_strokes(patch, strokes.subset(reaching), tips, params)
+        for name in ("colour", "coverage", "height", "opacity"):
+            getattr(canvas, name)[pixels] = getattr(patch, name)[pixels]
+        return canvas
+    canvas.colour[pixels] = np.asarray(params.canvas_colour, np.float32)
+    for values in (canvas.coverage, canvas.height, canvas.opacity):
+        values[pixels] = 0.0
+    canvas.only = pixels
+    lay_strokes(canvas, strokes.subset(reaching), tips, params)
+    canvas.only = None
     return canvas
 
 

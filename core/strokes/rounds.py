@@ -240,8 +240,8 @@ def lay_round(canvas: Canvas, plan: RoundPlan, size: int, tip: BrushTip, params:
     """Lay a plan's strokes on ``canvas`` in order (a solid line's opacity is its ``plan.contact``)."""
     paths = plan.paths
     if params.renderer == "lines":
-        if canvas.frame_height is not None:
-            raise ValueError("solid lines are drawn on a whole frame, not on some of its rows")
+        if canvas.frame_height is not None or canvas.only is not None:
+            raise ValueError("solid lines are drawn on every pixel of a whole frame")
         every = max(1, int(size) // 4)
         alphas = np.ones(len(paths.first)) if plan.contact is None else plan.contact.astype(np.float64)
         for i in range(len(paths.first)):
