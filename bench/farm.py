@@ -26,10 +26,12 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
 3. A projection of a 250-frame shot (``--projected-frames``) onto 1, 8 and 32
    machines of 2 single-threaded workers each (and of 1, 4 and 16 such shots
    painted at once by `core batch`), from the measured piece
-   times: max(chain, work / threads) + fill + drain, where chain = the
-   first frame's life + 249 x (carry + judging + birth + commit), judging
-   on T threads being the longest of the min(T, 8) bands the driver cuts
-   (``core.farm.scheduling.MAX_BANDS``), work = every piece of every
+   times: max(chain, commits, work / threads) + fill + drain, where chain =
+   the first frame's life + 249 x (carry + judging + birth), the life chain,
+   judging on T threads being the longest of the min(T, 8) bands the driver
+   cuts (``core.farm.scheduling.MAX_BANDS``); commits = 250 x commit, which
+   the client makes in frame order beside the life chain (it sends the next
+   life's pieces out before each commit); work = every piece of every
    frame on the workers, fill = the first frame's reading (before the chain
    can start), drain = laying and writing the last frame. Then the same with
    every piece's inputs (and the strokes and the maps' report the client
@@ -90,6 +92,7 @@ SMALL_CLIP = FOOTAGE / "bbb01"
 PIECES = tuple(kind.value for kind in PieceKind) + ("commit",)
 WORKER_PIECES = PIECES[:-1]
 CHAIN_PIECES = ("carry", "birth", "commit")     # in frame order; "judge" runs in bands side by side between them
+LIFE_PIECES = ("carry", "birth")                # the life chain: a frame's carry needs the births of the one before
 MACHINES = (1, 8, 32)
 SHOTS = (1, 4, 16)
 THREADS_PER_MACHINE = 2
@@ -278,18 +281,22 @@ def projection(first: Mapping[str, float], later: Mapping[str, float], frames: i
     "bands" (``settling``).
     transfer: seconds per later frame its pieces spend receiving their inputs; chain_transfer: of those, the
     seconds on the life chain (the strokes to and from the client, the life's inputs).
-    Returns {"chain", "work", "fill", "drain", "total"}: chain = the first frame's life + (frames - 1) x (carry +
-    settling + birth + commit + chain_transfer); work = every worker piece of every frame (+ transfers) / threads; fill = the first
-    frame's reading and analysis, before the chain starts; drain = laying and writing the last frame;
-    total = max(chain, work) + fill + drain.
+    Returns {"chain", "commits", "work", "fill", "drain", "total"}: chain = the first frame's life + (frames - 1) x
+    (carry + settling + birth + chain_transfer), the life chain (a frame's carry needs the births of the frame
+    before); commits = frames x commit, the client's commits in frame order, beside the life chain (the driver
+    sends the next life's pieces out before it commits); work = every worker piece of every frame (+ transfers) /
+    threads; fill = the first frame's reading and analysis, before the chain starts; drain = laying and writing
+    the last frame; total = max(chain, commits, work) + fill + drain.
     """
     later_work = sum(later[p] for p in WORKER_PIECES if p != "judge") + judge_work(later, threads) + transfer
-    chain = first["carry"] + (frames - 1) * (sum(later[p] for p in CHAIN_PIECES) + settling(later, threads)
+    chain = first["carry"] + (frames - 1) * (sum(later[p] for p in LIFE_PIECES) + settling(later, threads)
                                              + chain_transfer)
+    commits = first["commit"] + (frames - 1) * later["commit"]
     work = (sum(first.get(p, 0.0) for p in WORKER_PIECES) + (frames - 1) * later_work) / threads
     fill = first["prepare"]
     drain = later["shown"] + later["write"]
-    return {"chain": chain, "work": work, "fill": fill, "drain": drain, "total": max(chain, work) + fill + drain}
+    return {"chain": chain, "commits": commits, "work": work, "fill": fill, "drain": drain,
+            "total": max(chain, commits, work) + fill + drain}
 
 
 def output_digests(folder: Path) -> Dict[str, str]:
@@ -427,7 +434,7 @@ def print_projection(first, later, later_bytes, frames: int, gbps: float) -> Non
           f"{volume / rate:.2f} s of transfer per frame, {chain_volume / rate:.2f} s of it on the chain")
     print(f"PROJECTION from the measured task times (not a run on a cluster): {frames} frames of this clip's "
           f"size; each machine {THREADS_PER_MACHINE} single-threaded workers (like this one); "
-          f"total = max(chain, work / threads) + fill + drain")
+          f"total = max(chain, commits, work / threads) + fill + drain; commits {projection(first, later, frames, 1)['commits']:.0f} s")
     print(f"{'machines':>8} {'threads':>7} {'chain s':>9} {'work/threads s':>15} {'fill s':>7} {'drain s':>8} "
           f"{'total s':>9} {'s/frame':>8} {'x 1 machine':>11} {'x 1 thread':>10} {'total s at ' + f'{gbps:g} GB/s':>18}")
     alone = projection(first, later, frames, 1)["work"]
@@ -444,11 +451,13 @@ def print_projection(first, later, later_bytes, frames: int, gbps: float) -> Non
     print(f"one thread (every piece in turn, no commit): {alone:.0f} s; the chain allows at most "
           f"{alone / projection(first, later, frames, 10**6)['total']:.1f} times that speed on any cluster")
     print(f"many shots at once (`core batch`): each shot's chain is its own, so S shots of {frames} frames take "
-          f"max(chain, S x work / threads) + fill + drain; frames a second as a multiple of one shot on one machine")
+          f"max(chain, commits, S x work / threads) + fill + drain (each shot commits in a thread of its own); frames "
+          f"a second as a multiple of one shot on one machine")
     print(f"{'machines':>8} " + " ".join(f"{f'{shots} shot' + ('s' if shots > 1 else ''):>9}" for shots in SHOTS))
     for machines in MACHINES:
         p = projection(first, later, frames, machines * THREADS_PER_MACHINE)
-        rates = [shots * frames / (max(p["chain"], shots * p["work"]) + p["fill"] + p["drain"]) for shots in SHOTS]
+        rates = [shots * frames / (max(p["chain"], p["commits"], shots * p["work"]) + p["fill"] + p["drain"])
+                 for shots in SHOTS]
         print(f"{machines:>8} " + " ".join(f"{rate * one / frames:>9.1f}" for rate in rates))
 
 

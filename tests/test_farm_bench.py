@@ -34,7 +34,8 @@ def test_sent_bytes_count_each_transfer_of_a_frame():
 
 def test_projection_on_few_threads_is_bound_by_the_work():
     p = projection(FIRST, LATER, frames=11, threads=2)
-    assert p["chain"] == pytest.approx(10.0 + 10 * (3.0 + 2.0))
+    assert p["chain"] == pytest.approx(10.0 + 10 * (2.0 + 2.0))         # carry, births and the longest of 2 bands
+    assert p["commits"] == pytest.approx(0.2 + 10 * 1.0)
     assert p["work"] == pytest.approx((14.5 + 10 * 15.0) / 2)
     assert p["fill"] == 0.5 and p["drain"] == 5.0
     assert p["total"] == pytest.approx(82.25 + 5.5)
@@ -42,10 +43,16 @@ def test_projection_on_few_threads_is_bound_by_the_work():
 
 def test_projection_on_many_threads_is_bound_by_the_chain_and_transfers_lengthen_it():
     p = projection(FIRST, LATER, frames=11, threads=64)
-    assert p["total"] == pytest.approx(10.0 + 10 * 3.6 + 5.5)
+    assert p["total"] == pytest.approx(10.0 + 10 * 2.6 + 5.5)
     slow = projection(FIRST, LATER, frames=11, threads=64, transfer=1.0, chain_transfer=0.5)
-    assert slow["chain"] == pytest.approx(46.0 + 10 * 0.5)
+    assert slow["chain"] == pytest.approx(36.0 + 10 * 0.5)
     assert slow["work"] == pytest.approx((14.5 + 10 * 18.0) / 64)
+
+
+def test_commits_beside_the_life_chain_bound_the_projection_when_they_take_longer():
+    p = projection(FIRST, dict(LATER, commit=5.0), frames=11, threads=64)
+    assert p["chain"] == pytest.approx(36.0) and p["commits"] == pytest.approx(50.2)
+    assert p["total"] == pytest.approx(50.2 + 5.5)
 
 
 def test_output_digests_take_the_painted_files_only_and_see_a_changed_byte(tmp_path):

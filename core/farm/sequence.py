@@ -132,6 +132,7 @@ class ClusterRun:
                     raise_error(future, f"in the piece {future.key} (sent to {worker})")
             living = self.lived(living)
             while committed < living and self.made(PieceKey(PieceKind.WRITE, committed)):
+                self.dispatch(committed, living)    # the next life's pieces leave before a commit holds this thread
                 self.commit(committed, report)
                 committed += 1
                 self.report_progress(progress, committed, where)
