@@ -40,7 +40,6 @@ def test_a_later_frame_lives_from_the_frame_before_its_motion_and_its_judging_ba
 
 def test_a_life_complete_at_its_carry_has_no_judging_bands_and_the_keys_run_in_order():
     assert judging_bands(LifeStep(object(), None), 40, 4) == []
-    assert judging_bands(LifeStep(None, object()), 40, 4) == [(0, 10), (10, 20), (20, 30), (30, 40)]
     made = set()
     for key in PIECES.life_start_keys(1) + PIECES.life_end_keys(1, [(0, 40)]):
         assert set(PIECES.piece(key, [(0, 40)]).needs) - {PieceKey(PREPARE, 0), PieceKey(BIRTH, 0),

@@ -42,6 +42,7 @@ from core.sequence.frame_step import (
     shown_canvas,
     unchanged,
 )
+from core.sequence.pieces import LifeStep, judging_bands, row_bands
 from core.sequence.shot import paint_sequence
 from core.sequence.shot_folder import ShotFolder
 from core.strokes.stroke_list import PAINTING_BRUSH, reaching_rows
@@ -350,7 +351,9 @@ def test_the_judging_canvas_laid_in_bands_of_rows_is_the_canvas_laid_whole(rende
     image = moved_photo(shape, (-step[0], -step[1]))
     carried = carried_frame(first, image, uniform_motion(shape, step), params, analyse_frame(image, params))
     whole = settled_rows(carried, params, shape, (0, shape[0])).canvas
-    for cuts in ([0, 48, 96], [0, 7, 30, 31, 64, 96]):
+    chosen = judging_bands(LifeStep(None, carried), shape[0], 3)      # about equal in the work of laying
+    assert len(chosen) == 3 and chosen != row_bands(shape[0], 3)
+    for cuts in ([0, 48, 96], [0, 7, 30, 31, 64, 96], [first for first, _ in chosen] + [shape[0]]):
         bands = list(zip(cuts[:-1], cuts[1:], strict=True))
         parts = [settled_rows(carried, params, shape, rows) for rows in bands]
         assert all(reaching_rows(carried.living.strokes, *rows).mean() < 0.95 for rows in bands if rows[1] - rows[0] < 40)

@@ -25,7 +25,15 @@ from core.strokes.canvas import Canvas
 from core.strokes.path import catmull_rom
 from core.strokes.planning import samples_per_segment
 from core.strokes.rounds import strokes_footprints
-from core.strokes.stroke_list import ROUND_BRUSH, StrokeList, lay_strokes, stroke_tips
+from core.strokes.stroke_list import (
+    LAYING_SHARE,
+    ROUND_BRUSH,
+    StrokeList,
+    lay_strokes,
+    laying_bands,
+    reaching_rows,
+    stroke_tips,
+)
 
 
 def laid(strokes: StrokeList, shape: tuple, params: Params) -> Canvas:
@@ -215,3 +223,32 @@ def test_a_fading_stroke_over_thick_paint_moves_the_relief_part_way_and_digs_no_
         lowered = 2.0 - over_thick(contact).height[body]
         assert lowered.max() <= contact * (2.0 - full.height[body].min()) + 0.05, contact
         assert lowered.mean() > 0.5 * contact * (2.0 - full.height[body].mean()), contact
+
+
+def band_work(strokes: StrokeList, height: int, first: int, stop: int) -> float:
+    """The work ``laying_bands`` gives rows first .. stop - 1, worked out stroke by stroke with ``reaching_rows``."""
+    steps = np.linalg.norm(np.diff(strokes.control, axis=1), axis=2)
+    work = (np.nansum(steps, axis=1) + strokes.size) * strokes.size
+    reaching = work[reaching_rows(strokes, first, stop)].sum()
+    return (1 - LAYING_SHARE) * reaching + LAYING_SHARE * work.sum() * (stop - first) / height
+
+
+@pytest.mark.parametrize("crowded", [False, True])
+def test_laying_bands_tile_the_rows_and_lay_no_more_in_their_largest_than_equal_bands_do(crowded):
+    image = photo(4, 96, 128, "blocks")
+    params = Params(seed=4, stroke_sizes=(32, 16, 8, 4), size_reference_megapixels=0.012)
+    strokes = recorded(image, params).stroke_list
+    h = image.shape[0]
+    if crowded:                                               # strokes reaching into the top quarter only
+        strokes = strokes.subset(np.nanmin(strokes.control[:, :, 1], axis=1) < h / 4)
+        assert 0 < len(strokes) < len(recorded(image, params).stroke_list)
+    for parts in (1, 2, 3, 8, 500):
+        bands = laying_bands(strokes, h, parts)
+        assert bands[0][0] == 0 and bands[-1][1] == h and len(bands) <= min(parts, h)
+        assert all(a < b for a, b in bands) and all(b == c for (_, b), (c, _) in zip(bands, bands[1:], strict=False))
+        count = min(parts, h)
+        equal = [(h * k // count, h * (k + 1) // count) for k in range(count)]
+        largest = max(band_work(strokes, h, a, b) for a, b in bands)
+        assert largest <= max(band_work(strokes, h, a, b) for a, b in equal) * 1.001
+    if crowded:
+        assert laying_bands(strokes, h, 4)[0][1] < h / 4       # the crowded top is cut finer than equal rows

@@ -116,12 +116,13 @@ def paint_layers(canvas: Canvas, analysis: Analysis, tips: dict, sources: Dict[i
     order = painting_order(analysis.grids, analysis.grid_sizes)
     grids = analysis.grids[order]
     runs = size_runs(analysis.grid_sizes[order])
+    holding = None if eligible is None else grids_holding(grids, eligible)
     strokes: List[Stroke] = []
     per_layer: List[int] = []
     for layer in range(params.layers):
         laid = paint_layer(canvas, layer, grids, runs, analysis.orientation, tips, sources, params,
                            layer_progress(stage, layer, params.layers, len(runs), len(strokes)), recorder,
-                           eligible)
+                           eligible, holding)
         strokes += laid
         per_layer.append(len(laid))
     return strokes, per_layer
@@ -138,7 +139,8 @@ def layer_progress(stage: Stage, layer: int, layers: int, runs: int, before: int
 
 def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orientation: np.ndarray, tips: dict,
                 sources: Dict[int, ColourSources], params: Params, report,
-                recorder: Optional[StrokeRecorder] = None, eligible: Optional[np.ndarray] = None) -> List[Stroke]:
+                recorder: Optional[StrokeRecorder] = None, eligible: Optional[np.ndarray] = None,
+                holding: Optional[np.ndarray] = None) -> List[Stroke]:
     """One layer over (N, 4) ``grids`` in painting order, one round per run (size, first, stop) of ``runs``.
 
     The grids of one size are a run (``painting_order``): their anchors are
@@ -148,11 +150,11 @@ def paint_layer(canvas: Canvas, layer: int, grids: np.ndarray, runs: list, orien
     is left to the next smaller brush: its anchor, with its stream, opens
     that size's run if it is still bare when the run begins (``still_bare``),
     and is judged again there. report(runs done, strokes laid) is called after
-    each run; ``recorder`` (optional) keeps the strokes laid; ``eligible`` (optional) as for ``choose_anchors``.
+    each run; ``recorder`` (optional) keeps the strokes laid; ``eligible`` (optional) as for ``choose_anchors``,
+    with ``holding`` (N,) bool, which grids hold an eligible pixel (``grids_holding``, which every layer shares).
     Returns the layer's strokes.
     """
     draws = visit_uniforms(params.seed, layer, np.arange(len(grids)), 5)
-    holding = None if eligible is None else grids_holding(grids, eligible)
     strokes: List[Stroke] = []
     waiting = np.zeros((0, 2), np.int64), np.zeros((0, 4))          # refused bare spots' anchors and draws
     for done, (size, first, stop) in enumerate(runs):

@@ -44,6 +44,7 @@ from pathlib import Path
 from typing import Callable, List, NamedTuple, Optional, Sequence, Set, Tuple
 
 from ..progress import Stage
+from ..strokes.stroke_list import laying_bands
 from .frame_step import (
     CanvasRows,
     CarriedFrame,
@@ -208,8 +209,11 @@ def row_bands(height: int, parts: int) -> List[Rows]:
 
 def judging_bands(step: LifeStep, height: int, parts: int) -> List[Rows]:
     """The bands of rows a frame's JUDGE pieces lay after its carry ``step``: none when the life is complete, else
-    ``row_bands(height, parts)``."""
-    return [] if step.complete else row_bands(height, parts)
+    at most ``parts`` bands about equal in the work of laying the carried strokes that reach each
+    (``stroke_list.laying_bands``)."""
+    if step.complete:
+        return []
+    return laying_bands(step.carried.living.settled().strokes, height, parts)
 
 
 class ShotPieces:

@@ -133,13 +133,12 @@ def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray,
     chosen = cover.copy()
     rest = ~cover[owner]
     if rest.any():
-        xs, ys = x[rest], y[rest]
+        looked = rest if eligible is None else rest & ~left_out        # a pixel left out keeps -inf
+        xs, ys = x[looked], y[looked]
         diff = np.take(colour.reshape(-1, 3), ys * colour.shape[1] + xs, axis=0)
         diff -= reference.sample(xs.astype(np.float32), ys.astype(np.float32))
         dist2 = np.full(len(x), -np.inf, np.float32)
-        dist2[rest] = np.einsum("ij,ij->i", diff, diff)
-        if eligible is not None:
-            dist2[left_out] = -np.inf
+        dist2[looked] = np.einsum("ij,ij->i", diff, diff)
         high = np.maximum.reduceat(dist2, starts[:-1])
         chosen |= ~cover & (high > np.float32(difference_threshold * difference_threshold))
         candidate |= rest & (dist2 == high[owner])

@@ -209,6 +209,69 @@ def reaching_rows(strokes: StrokeList, first_row: int, stop_row: int) -> np.ndar
     return (boxes[:, 3] >= first_row) & (boxes[:, 2] < stop_row)
 
 
+LAYING_SHARE = 0.4
+"""The share of laying strokes that is compositing their paint onto the canvas, which a band of rows pays for its
+own rows only; the rest, making each stroke's footprint, a band pays in full for every stroke that reaches it
+(measured at 1920x1080: 0.54 s of 1.35 s)."""
+
+
+def laying_bands(strokes: StrokeList, height: int, parts: int) -> List[Tuple[int, int]]:
+    """[(first, stop), ...]: at most ``parts`` consecutive bands of a frame's ``height`` rows, none empty, whose
+    largest work of laying ``strokes`` (``reaching_rows`` each) is the least any such cut gives.
+
+    A stroke's work is its footprint, about (its control polygon's length + its width) x its width px, made in
+    full by every band it reaches, and composited by each band on its own rows: a band of rows a .. b - 1 works
+    (1 - LAYING_SHARE) x the work of the strokes reaching it + LAYING_SHARE x the work of all (b - a) / height.
+    The least largest work is found to 1 part in 1000 by bisection, each bound tried by cutting greedily."""
+    parts = max(1, min(parts, height))
+    if parts == 1 or len(strokes) == 0:
+        return [(0, height)]
+    boxes = reach_boxes(strokes)
+    work = (polygon_length(strokes) + strokes.size) * strokes.size
+    total = float(work.sum())
+    # reach(a, b) = total - work of strokes ending above row a - work of strokes starting at row b or below
+    ends = np.clip(np.floor(boxes[:, 3]).astype(np.int64) + 1, 0, height + 1)
+    ended = np.cumsum(np.bincount(ends, work, minlength=height + 2))[:height + 1]   # ended[a]: ending above row a
+    starts = np.clip(np.floor(boxes[:, 2]).astype(np.int64), -1, height)
+    begun = np.bincount(starts + 1, work, minlength=height + 2)
+    after = np.cumsum(begun[::-1])[::-1]                      # after[r + 1]: work of strokes starting at row >= r
+    rows = np.arange(height + 1)
+
+    def cost(first: int) -> np.ndarray:
+        """(height + 1,) the work of the band first .. b - 1 for every stop b (first + 1 .. height meaningful)."""
+        reaching = total - ended[first] - after[np.minimum(rows, height) + 1]
+        return (1 - LAYING_SHARE) * reaching + LAYING_SHARE * total * (rows - first) / height
+
+    def cut(bound: float) -> List[Tuple[int, int]]:
+        """The bands greedily as long as their work stays within ``bound`` (at least one row each)."""
+        bands, first = [], 0
+        while first < height:
+            fits = np.flatnonzero(cost(first)[first + 1:] <= bound)
+            stop = first + 1 + (int(fits[-1]) if fits.size else 0)
+            bands.append((first, stop))
+            first = stop
+        return bands
+
+    low, high = 0.0, total
+    best = cut(high)
+    while high - low > 1e-3 * total:
+        middle = 0.5 * (low + high)
+        bands = cut(middle)
+        if len(bands) <= parts:
+            best, high = bands, middle
+        else:
+            low = middle
+    return best
+
+
+def polygon_length(strokes: StrokeList) -> np.ndarray:
+    """(N,) float64 px: the length of each stroke's control polygon."""
+    if strokes.control.shape[1] < 2:
+        return np.zeros(len(strokes))
+    steps = np.linalg.norm(np.diff(strokes.control, axis=1), axis=2)
+    return np.nansum(steps, axis=1)
+
+
 def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int], BrushTip], params: Params) -> None:
     """Lay ``strokes`` on ``canvas`` in the list's order, as the painter laid them (``lay_round``, one
     ``lay_chunks`` chunk of a run after another). tips: {(brush, size): BrushTip} (``stroke_tips``); params:
