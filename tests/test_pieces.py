@@ -2,13 +2,9 @@
 
 from pathlib import Path
 
-import numpy as np
-
 from core.motion.source import OPTICAL_FLOW_MOTION
 from core.params import Params
-from core.sequence.frame_step import FrameMotion, analyse_frame
-from core.sequence.frame_work import FrameInput
-from core.sequence.pieces import LifeStep, PieceKey, PieceKind, Prepared, ShotPieces, analysed_ahead, judging_bands
+from core.sequence.pieces import LifeStep, PieceKey, PieceKind, ShotPieces, judging_bands
 from core.sequence.shot_settings import ShotSettings
 
 PREPARE, MOTION, CARRY, JUDGE, BIRTH, SHOWN, WRITE = PieceKind
@@ -52,17 +48,3 @@ def test_a_committed_frame_keeps_only_its_picture_strokes_and_frame_shown_for_th
     assert PIECES.needed_by_next(0) == {PieceKey(PREPARE, 0), PieceKey(BIRTH, 0), PieceKey(SHOWN, 0)}
     assert PIECES.needed_by_next(1) == {PieceKey(PREPARE, 1), PieceKey(BIRTH, 1), PieceKey(SHOWN, 1)}
 
-
-def test_a_frame_is_analysed_ahead_only_when_its_picture_changed_and_as_its_carry_would_analyse_it():
-    rng = np.random.default_rng(3)
-    image = rng.random((40, 60, 3), dtype=np.float32)
-    prepared = Prepared(FrameInput(image, None, 0.0), None)
-    still = np.zeros((40, 60, 2), np.float32)
-    alike = FrameMotion(still, still, *(np.ones((40, 60), bool),) * 3, same_picture=True)
-    assert analysed_ahead(SHOT, prepared, alike) is prepared
-    ahead = analysed_ahead(SHOT, prepared, alike._replace(same_picture=False))
-    own = analyse_frame(image, SHOT.params)
-    assert ahead.frame is prepared.frame and np.array_equal(ahead.analysed.analysis.orientation,
-                                                            own.analysis.orientation)
-    assert all(np.array_equal(a, b) for a, b in zip(ahead.analysed.analysis.grids, own.analysis.grids, strict=True))
-    assert analysed_ahead(SHOT, ahead, alike._replace(same_picture=False)) is ahead

@@ -133,16 +133,6 @@ def prepare(path: Path, shot: ShotSettings, analyse: bool) -> Prepared:
     return Prepared(frame, analyse_frame(frame.image, shot.params) if analyse else None)
 
 
-def analysed_ahead(shot: ShotSettings, prepared: Prepared, motion: FrameMotion, cancel=None) -> Prepared:
-    """``prepared`` with its frame's analysis when it holds none and its picture differs from the frame before's
-    (``motion.same_picture``): what the frame's CARRY would analyse, made before it. A frame of the same picture
-    is left without, since its life may end at the carry (``frame_step.unchanged``). ``cancel`` stops the
-    analysis."""
-    if prepared.analysed is not None or motion.same_picture:
-        return prepared
-    return prepared._replace(analysed=analyse_frame(prepared.frame.image, shot.params, cancel))
-
-
 def motion_between(shot: ShotSettings, before, after) -> FrameMotion:
     """The motion from the frame of ``before`` to that of ``after`` (each a ``Prepared`` or any value with a
     ``frame``), from the shot's motion source."""

@@ -42,7 +42,7 @@ from ..progress import CancelFn, ProgressFn, Stage
 from ..version import __version__
 from .frame_step import PaintedFrame
 from .frame_work import WrittenFrame
-from .pieces import Piece, PieceKey, PieceKind, ShotPieces, analysed_ahead, judging_bands
+from .pieces import Piece, PieceKey, PieceKind, ShotPieces, judging_bands
 from .shot_folder import Resume, ShotFolder
 from .shot_settings import ShotSettings
 from .state import STATE_FILE, load_state, save_state
@@ -245,9 +245,8 @@ class Run:
         """Paint frames ``start`` .. the last in this process, committing each in order, ``report`` kept up to date.
 
         Each frame's life (``pieces.ShotPieces``: read, motion, carry, the judging canvas in one band, births) is
-        made here, frame after frame. Beside it, one side thread reads the next frame, finds the motion to it and
-        analyses it when its picture changed (``FrameAhead``), and another lays the frame before as shown and
-        writes its maps (``FrameBehind``); a frame is committed once its life and its maps are made. When the life
+        made here, frame after frame. Beside it, one side thread reads the next frame and finds the motion to it
+        (``FrameAhead``), and another lays the frame before as shown and writes its maps (``FrameBehind``); a frame is committed once its life and its maps are made. When the life
         of a frame fails or is stopped, the frame before is still committed first (or its own failure raised), so
         the folder holds the frames that painting one frame after another would have left; the next frame's
         reading fails, if it does, only once this frame is committed. Every piece is a function of the pieces it
@@ -270,7 +269,7 @@ class Run:
                         if key not in made:
                             self.make(pieces.piece(key), made, stage)
                     if index + 1 < count:
-                        ahead.start(pieces, index + 1, made, cancel)
+                        ahead.start(pieces, index + 1, made)
                     self.make(pieces.piece(carry), made, stage)
                     stage.check()
                     bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
@@ -391,9 +390,10 @@ class FrameBehind:
 
 
 class FrameAhead:
-    """The next frame's PREPARE and MOTION pieces made on a side thread while this frame's life is made, with the
-    frame's analysis when its picture differs from the frame before's (``pieces.analysed_ahead``): ``start``
-    hands it the pieces, ``finished`` waits for them."""
+    """The next frame's PREPARE and MOTION pieces (reading it, the motion to it) made on a side thread while this
+    frame's life is made: ``start`` hands it the pieces, ``finished`` waits for them. Its analysis is left to its
+    CARRY: made ahead, it would overlap the life's own peak of memory (at 1920x1080 +650 MiB for a few per cent of
+    time)."""
 
     def __init__(self):
         self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="paint-relief-ahead")
@@ -405,9 +405,9 @@ class FrameAhead:
     def __exit__(self, *exc) -> None:
         self.pool.shutdown(wait=True)
 
-    def start(self, pieces: ShotPieces, index: int, made: Dict[PieceKey, object], cancel: CancelFn) -> None:
+    def start(self, pieces: ShotPieces, index: int, made: Dict[PieceKey, object]) -> None:
         """Make frame ``index``'s PREPARE and MOTION pieces (``index`` >= 1) on the side thread, the frame before's
-        PREPARE result taken from ``made`` now; ``cancel`` stops the analysis."""
+        PREPARE result taken from ``made`` now."""
         prepare = pieces.piece(PieceKey(PieceKind.PREPARE, index))
         motion = pieces.piece(PieceKey(PieceKind.MOTION, index))
         before = made[PieceKey(PieceKind.PREPARE, index - 1)]
@@ -415,7 +415,7 @@ class FrameAhead:
         def side() -> Dict[PieceKey, object]:
             prepared = prepare.make()
             moved = motion.make(before, prepared)
-            return {prepare.key: analysed_ahead(pieces.shot, prepared, moved, cancel), motion.key: moved}
+            return {prepare.key: prepared, motion.key: moved}
 
         self.pending = self.pool.submit(side)
 
