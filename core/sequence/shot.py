@@ -349,19 +349,27 @@ class Run:
         report.update(updated)
 
 
-class FrameBehind:
-    """One frame's SHOWN and WRITE pieces made on a side thread while the next frame's life is made: ``start``
-    hands it the pieces with the results they need, ``finished`` waits for them."""
+class SideThread:
+    """A side thread for one piece of work at a time (``pending``, its future), waited for on leaving the
+    ``with`` block."""
 
-    def __init__(self):
-        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="paint-relief-frame")
+    def __init__(self, name: str):
+        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix=name)
         self.pending = None
 
-    def __enter__(self) -> "FrameBehind":
+    def __enter__(self):
         return self
 
     def __exit__(self, *exc) -> None:
         self.pool.shutdown(wait=True)
+
+
+class FrameBehind(SideThread):
+    """One frame's SHOWN and WRITE pieces made on a side thread while the next frame's life is made: ``start``
+    hands it the pieces with the results they need, ``finished`` waits for them."""
+
+    def __init__(self):
+        super().__init__("paint-relief-frame")
 
     def start(self, index: int, painted: PaintedFrame, shown: Piece, write: Piece,
               made: Dict[PieceKey, object]) -> None:
@@ -389,21 +397,14 @@ class FrameBehind:
         return index, painted, shown_now, written
 
 
-class FrameAhead:
+class FrameAhead(SideThread):
     """The next frame's PREPARE and MOTION pieces (reading it, the motion to it) made on a side thread while this
     frame's life is made: ``start`` hands it the pieces, ``finished`` waits for them. Its analysis is left to its
     CARRY: made ahead, it would overlap the life's own peak of memory (at 1920x1080 +650 MiB for a few per cent of
     time)."""
 
     def __init__(self):
-        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="paint-relief-ahead")
-        self.pending = None
-
-    def __enter__(self) -> "FrameAhead":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.pool.shutdown(wait=True)
+        super().__init__("paint-relief-ahead")
 
     def start(self, pieces: ShotPieces, index: int, made: Dict[PieceKey, object]) -> None:
         """Make frame ``index``'s PREPARE and MOTION pieces (``index`` >= 1) on the side thread, the frame before's
