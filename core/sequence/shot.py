@@ -245,28 +245,32 @@ class Run:
         """Paint frames ``start`` .. the last in this process, committing each in order, ``report`` kept up to date.
 
         Each frame's life (``pieces.ShotPieces``: read, motion, carry, the judging canvas in one band, births) is
-        made here, frame after frame, while a side thread lays the frame before as shown and writes its maps
-        (``FrameBehind``); a frame is committed once both are made. When the life of a frame fails or is stopped,
-        the frame before is still committed first (or its own failure raised), so the folder holds the frames that
-        painting one frame after another would have left. Every piece is a function of the pieces it needs, so the
-        bytes are the same as making them one after another. The next frame is not read ahead beside the life: its
-        reading and motion overlapping the life's own peak of memory cost 12-16 % more memory and left the peak of
-        a 250-frame shot 1.12 times that at frame 20 (``bench/sequence_memory.py``), for a time 14 % shorter only
-        where the motion is optical flow."""
+        made here, frame after frame. Beside it, one side thread reads the next frame and finds the motion to it
+        (``FrameAhead``), and another lays the frame before as shown and writes its maps (``FrameBehind``); a frame is committed once its life and its maps are made. When the life
+        of a frame fails or is stopped, the frame before is still committed first (or its own failure raised), so
+        the folder holds the frames that painting one frame after another would have left; the next frame's
+        reading fails, if it does, only once this frame is committed. Every piece is a function of the pieces it
+        needs, so the bytes are the same as making them one after another."""
         pieces, count = self.pieces(folder.folder, analyse_ahead=False), len(self.frames.paths)
         made: Dict[PieceKey, object] = {}
         if start > 0:
             made[PieceKey(PieceKind.BIRTH, start - 1)] = self.resumed_frame(folder.folder)
             for kind in (PieceKind.PREPARE, PieceKind.SHOWN):
                 self.make(pieces.piece(PieceKey(kind, start - 1)), made, None)
-        with FrameBehind() as behind:
+        with FrameBehind() as behind, FrameAhead() as ahead:
             try:
                 for index in range(start, count):
                     stage = Stage(frame_progress(progress, self.frames.numbers[index], index, count), cancel,
                                   index / count, (index + 1) / count)
                     stage.report(0.0, "motion" if index else "painting")
-                    for key in pieces.life_start_keys(index):
-                        self.make(pieces.piece(key), made, stage)
+                    made.update(ahead.finished())
+                    *reading, carry = pieces.life_start_keys(index)
+                    for key in reading:
+                        if key not in made:
+                            self.make(pieces.piece(key), made, stage)
+                    if index + 1 < count:
+                        ahead.start(pieces, index + 1, made)
+                    self.make(pieces.piece(carry), made, stage)
                     stage.check()
                     bands = judging_bands(made[PieceKey(PieceKind.CARRY, index)], self.shot.shape[0], 1)
                     *life, shown, write = [pieces.piece(key, bands) for key in pieces.life_end_keys(index, bands)]
@@ -345,19 +349,27 @@ class Run:
         report.update(updated)
 
 
-class FrameBehind:
-    """One frame's SHOWN and WRITE pieces made on a side thread while the next frame's life is made: ``start``
-    hands it the pieces with the results they need, ``finished`` waits for them."""
+class SideThread:
+    """A side thread for one piece of work at a time (``pending``, its future), waited for on leaving the
+    ``with`` block."""
 
-    def __init__(self):
-        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="paint-relief-frame")
+    def __init__(self, name: str):
+        self.pool = concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix=name)
         self.pending = None
 
-    def __enter__(self) -> "FrameBehind":
+    def __enter__(self):
         return self
 
     def __exit__(self, *exc) -> None:
         self.pool.shutdown(wait=True)
+
+
+class FrameBehind(SideThread):
+    """One frame's SHOWN and WRITE pieces made on a side thread while the next frame's life is made: ``start``
+    hands it the pieces with the results they need, ``finished`` waits for them."""
+
+    def __init__(self):
+        super().__init__("paint-relief-frame")
 
     def start(self, index: int, painted: PaintedFrame, shown: Piece, write: Piece,
               made: Dict[PieceKey, object]) -> None:
@@ -383,6 +395,38 @@ class FrameBehind:
         self.pending = None
         shown_now, written = future.result()
         return index, painted, shown_now, written
+
+
+class FrameAhead(SideThread):
+    """The next frame's PREPARE and MOTION pieces (reading it, the motion to it) made on a side thread while this
+    frame's life is made: ``start`` hands it the pieces, ``finished`` waits for them. Its analysis is left to its
+    CARRY: made ahead, it would overlap the life's own peak of memory (at 1920x1080 +650 MiB for a few per cent of
+    time)."""
+
+    def __init__(self):
+        super().__init__("paint-relief-ahead")
+
+    def start(self, pieces: ShotPieces, index: int, made: Dict[PieceKey, object]) -> None:
+        """Make frame ``index``'s PREPARE and MOTION pieces (``index`` >= 1) on the side thread, the frame before's
+        PREPARE result taken from ``made`` now."""
+        prepare = pieces.piece(PieceKey(PieceKind.PREPARE, index))
+        motion = pieces.piece(PieceKey(PieceKind.MOTION, index))
+        before = made[PieceKey(PieceKind.PREPARE, index - 1)]
+
+        def side() -> Dict[PieceKey, object]:
+            prepared = prepare.make()
+            moved = motion.make(before, prepared)
+            return {prepare.key: prepared, motion.key: moved}
+
+        self.pending = self.pool.submit(side)
+
+    def finished(self) -> Dict[PieceKey, object]:
+        """{key: result} of the pieces started last, once made (their failure raised); empty when none is
+        pending."""
+        if self.pending is None:
+            return {}
+        future, self.pending = self.pending, None
+        return future.result()
 
 
 def release(made: Dict[PieceKey, object], needed: Set[PieceKey]) -> None:
