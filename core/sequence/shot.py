@@ -246,11 +246,12 @@ class Run:
 
         Each frame's life (``pieces.ShotPieces``: read, motion, carry, the judging canvas in one band, births) is
         made here, frame after frame. Beside it, one side thread reads the next frame and finds the motion to it
-        (``FrameAhead``), and another lays the frame before as shown and writes its maps (``FrameBehind``); a frame is committed once its life and its maps are made. When the life
-        of a frame fails or is stopped, the frame before is still committed first (or its own failure raised), so
-        the folder holds the frames that painting one frame after another would have left; the next frame's
-        reading fails, if it does, only once this frame is committed. Every piece is a function of the pieces it
-        needs, so the bytes are the same as making them one after another."""
+        (``FrameAhead``), and another lays the frame before as shown and writes its maps (``FrameBehind``); a frame
+        is committed once its life and its maps are made. When the life of a frame fails or is stopped, the frame
+        before is still committed first (or its own failure raised), so the folder holds the frames that painting
+        one frame after another would have left; the next frame's reading fails, if it does, only once this frame
+        is committed. Every piece is a function of the pieces it needs, so the bytes are the same as making them
+        one after another."""
         pieces, count = self.pieces(folder.folder, analyse_ahead=False), len(self.frames.paths)
         made: Dict[PieceKey, object] = {}
         if start > 0:
