@@ -22,10 +22,10 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 
 from ..motion.warp import bilinear, inside_frame
-from ..strokes.path import nearest_pixels
+from ..strokes.path import nearest_pixels, polygon_lengths
 from ..strokes.smoothing import SmoothedImage
 from ..strokes.stroke_list import PAINTING_BRUSH
-from .living import LivingStrokes, polygon_lengths
+from .living import LivingStrokes
 
 HIDDEN_SHARE = 0.25
 """A stroke dies at once when more than this share of its control points is hidden in the next frame."""

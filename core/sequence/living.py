@@ -16,6 +16,7 @@ from typing import List, Tuple
 
 import numpy as np
 
+from ..strokes.path import polygon_lengths
 from ..strokes.stroke_list import StrokeList, bristle_entries
 
 
@@ -102,12 +103,3 @@ class LivingStrokes:
     def at_full_contact(self) -> bool:
         """Whether every stroke is settled: none fading in or out, so the frame is laid as its judging canvas."""
         return bool(np.all(self.level == self.fade_frames) and not np.any(self.dying))
-
-
-def polygon_lengths(control: np.ndarray, count: np.ndarray) -> np.ndarray:
-    """(N,) float64 px: the length of each of N control polygons, ``control`` (N, P, 2) NaN-padded past
-    ``count`` (N,) points (0 for a stroke of one control point)."""
-    if control.shape[1] < 2:
-        return np.zeros(len(control))
-    steps = np.hypot(*np.moveaxis(np.diff(control, axis=1), 2, 0))
-    return np.nansum(np.where(np.arange(1, control.shape[1])[None, :] < count[:, None], steps, 0.0), axis=1)

@@ -202,3 +202,12 @@ def tangent_angles(points: np.ndarray, starts: np.ndarray, fallback: np.ndarray)
     single = ~long
     angles[first[single]] = np.asarray(fallback, np.float64)[single]
     return angles
+
+
+def polygon_lengths(control: np.ndarray, count: np.ndarray) -> np.ndarray:
+    """(N,) float64 px: the length of each of N control polygons, ``control`` (N, P, 2) NaN-padded past
+    ``count`` (N,) points (0 for a stroke of one control point)."""
+    if control.shape[1] < 2:
+        return np.zeros(len(control))
+    steps = np.hypot(*np.moveaxis(np.diff(control, axis=1), 2, 0))
+    return np.nansum(np.where(np.arange(1, control.shape[1])[None, :] < count[:, None], steps, 0.0), axis=1)

@@ -21,7 +21,7 @@ import numpy as np
 from ..params import Params
 from .brush import BrushTip, brush_tip, load_brush
 from .canvas import Canvas
-from .path import catmull_rom
+from .path import catmull_rom, polygon_lengths
 from .planning import PlannedPaths, samples_per_segment
 from .rounds import RoundPlan, lay_chunks, lay_round
 
@@ -227,7 +227,7 @@ def laying_bands(strokes: StrokeList, height: int, parts: int) -> List[Tuple[int
     if parts == 1 or len(strokes) == 0:
         return [(0, height)]
     boxes = reach_boxes(strokes)
-    work = (polygon_length(strokes) + strokes.size) * strokes.size
+    work = (polygon_lengths(strokes.control, strokes.control_count) + strokes.size) * strokes.size
     total = float(work.sum())
     # reach(a, b) = total - work of strokes ending above row a - work of strokes starting at row b or below
     ends = np.clip(np.floor(boxes[:, 3]).astype(np.int64) + 1, 0, height + 1)
@@ -262,14 +262,6 @@ def laying_bands(strokes: StrokeList, height: int, parts: int) -> List[Tuple[int
         else:
             low = middle
     return best
-
-
-def polygon_length(strokes: StrokeList) -> np.ndarray:
-    """(N,) float64 px: the length of each stroke's control polygon."""
-    if strokes.control.shape[1] < 2:
-        return np.zeros(len(strokes))
-    steps = np.linalg.norm(np.diff(strokes.control, axis=1), axis=2)
-    return np.nansum(steps, axis=1)
 
 
 def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int], BrushTip], params: Params) -> None:
