@@ -200,9 +200,11 @@ def row_bands(height: int, parts: int) -> List[Rows]:
 def judging_bands(step: LifeStep, height: int, parts: int) -> List[Rows]:
     """The bands of rows a frame's JUDGE pieces lay after its carry ``step``: none when the life is complete, else
     at most ``parts`` bands about equal in the work of laying the carried strokes that reach each
-    (``stroke_list.laying_bands``)."""
+    (``stroke_list.laying_bands``); one band of every row, without looking at the strokes, when ``parts`` is 1."""
     if step.complete:
         return []
+    if parts <= 1:
+        return row_bands(height, 1)
     return laying_bands(step.carried.living.settled().strokes, height, parts)
 
 
