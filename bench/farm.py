@@ -29,7 +29,7 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    times: max(chain, commits, work / threads) + fill + drain, where chain =
    the first frame's life + 249 x (carry + judging + birth), the life chain,
    judging on T threads being the longest of the min(T, 8) bands the driver
-   cuts (``core.farm.scheduling.MAX_BANDS``); commits = 250 x commit, which
+   cuts (``core.farm.scheduling.MAX_BANDS``; min(T / S, 8) for S shots at once); commits = 250 x commit, which
    the client makes in frame order beside the life chain (it sends the next
    life's pieces out before each commit); work = every piece of every
    frame on the workers, fill = the first frame's reading (before the chain
@@ -153,8 +153,9 @@ def cli_params(clip: str, seed: int):
     return params_from_args(args), SequenceSettings(args.fade_frames, args.normal_map).validate()
 
 
-BAND_COUNTS = (1, THREADS_PER_MACHINE, MAX_BANDS)
-"""The bands the judging canvas is cut into on one thread, one machine and eight or more."""
+BAND_COUNTS = (1, THREADS_PER_MACHINE, 4, MAX_BANDS)
+"""The bands the judging canvas is cut into on one thread, one machine, a shot's share of 16 threads painting 4
+shots, and eight threads or more."""
 
 
 def measure_pieces(clip: str, frame_range: str, seed: int, work: Path) -> dict:
@@ -274,8 +275,10 @@ def sent_bytes(sizes: Mapping[str, float], sent=SENT) -> float:
 
 
 def projection(first: Mapping[str, float], later: Mapping[str, float], frames: int, threads: int,
-               transfer: float = 0.0, chain_transfer: float = 0.0) -> dict:
-    """Seconds to paint ``frames`` frames on ``threads`` single-threaded workers, from pieces' seconds.
+               transfer: float = 0.0, chain_transfer: float = 0.0, shots: int = 1) -> dict:
+    """Seconds to paint ``frames`` frames of one shot on ``threads`` single-threaded workers, from pieces' seconds,
+    the threads shared by ``shots`` shots painted at once (each cuts its judging canvas for its share, the threads
+    over the shots: ``scheduling.band_count``).
 
     first: the first frame's seconds per piece (no "motion"; "carry" is the still); later: a later frame's, with
     "bands" (``settling``).
@@ -288,8 +291,9 @@ def projection(first: Mapping[str, float], later: Mapping[str, float], frames: i
     threads; fill = the first frame's reading and analysis, before the chain starts; drain = laying and writing
     the last frame; total = max(chain, commits, work) + fill + drain.
     """
-    later_work = sum(later[p] for p in WORKER_PIECES if p != "judge") + judge_work(later, threads) + transfer
-    chain = first["carry"] + (frames - 1) * (sum(later[p] for p in LIFE_PIECES) + settling(later, threads)
+    share = max(1, threads // shots)
+    later_work = sum(later[p] for p in WORKER_PIECES if p != "judge") + judge_work(later, share) + transfer
+    chain = first["carry"] + (frames - 1) * (sum(later[p] for p in LIFE_PIECES) + settling(later, share)
                                              + chain_transfer)
     commits = first["commit"] + (frames - 1) * later["commit"]
     work = (sum(first.get(p, 0.0) for p in WORKER_PIECES) + (frames - 1) * later_work) / threads
@@ -451,13 +455,13 @@ def print_projection(first, later, later_bytes, frames: int, gbps: float) -> Non
     print(f"one thread (every piece in turn, no commit): {alone:.0f} s; the chain allows at most "
           f"{alone / projection(first, later, frames, 10**6)['total']:.1f} times that speed on any cluster")
     print(f"many shots at once (`core batch`): each shot's chain is its own, so S shots of {frames} frames take "
-          f"max(chain, commits, S x work / threads) + fill + drain (each shot commits in a thread of its own); frames "
-          f"a second as a multiple of one shot on one machine")
+          f"max(chain, commits, S x work / threads) + fill + drain (each shot commits in a thread of its own and cuts its "
+          f"judging canvas for its share of the threads); frames a second as a multiple of one shot on one machine")
     print(f"{'machines':>8} " + " ".join(f"{f'{shots} shot' + ('s' if shots > 1 else ''):>9}" for shots in SHOTS))
     for machines in MACHINES:
-        p = projection(first, later, frames, machines * THREADS_PER_MACHINE)
+        at_once = [projection(first, later, frames, machines * THREADS_PER_MACHINE, shots=shots) for shots in SHOTS]
         rates = [shots * frames / (max(p["chain"], p["commits"], shots * p["work"]) + p["fill"] + p["drain"])
-                 for shots in SHOTS]
+                 for shots, p in zip(SHOTS, at_once, strict=True)]
         print(f"{machines:>8} " + " ".join(f"{rate * one / frames:>9.1f}" for rate in rates))
 
 

@@ -49,6 +49,15 @@ def test_projection_on_many_threads_is_bound_by_the_chain_and_transfers_lengthen
     assert slow["work"] == pytest.approx((14.5 + 10 * 18.0) / 64)
 
 
+def test_shots_at_once_cut_their_judging_canvas_for_their_share_of_the_threads():
+    # 4 shots on 8 threads: 2 threads each, so 2 bands (4.0 s of work, 2.0 s on the chain) where one shot has 8
+    alone, shared = projection(FIRST, LATER, frames=11, threads=8), projection(FIRST, LATER, frames=11, threads=8,
+                                                                               shots=4)
+    assert alone["chain"] == pytest.approx(10.0 + 10 * 2.6) and shared["chain"] == pytest.approx(10.0 + 10 * 4.0)
+    assert alone["work"] == pytest.approx((14.5 + 10 * 17.0) / 8)
+    assert shared["work"] == pytest.approx((14.5 + 10 * 15.0) / 8)
+
+
 def test_commits_beside_the_life_chain_bound_the_projection_when_they_take_longer():
     p = projection(FIRST, dict(LATER, commit=5.0), frames=11, threads=64)
     assert p["chain"] == pytest.approx(36.0) and p["commits"] == pytest.approx(50.2)

@@ -74,6 +74,9 @@ def test_frames_ahead_and_bands_follow_the_threads():
     assert frames_ahead(3, 6, {"a": 4}) == 6
     assert frames_ahead(0, 100, {}) == 4
     assert [band_count({"a": n}) for n in (0, 1, 3, 20)] == [1, 1, 3, MAX_BANDS]
+    # shots painted at once share the threads: each cuts its judging canvas for its share alone
+    assert [band_count({"a": 2, "b": 2}, shots) for shots in (0, 1, 2, 3, 4, 5)] == [4, 4, 2, 1, 1, 1]
+    assert band_count({"a": 64}, 4) == MAX_BANDS
     assert row_bands(10, 3) == [(0, 3), (3, 6), (6, 10)]
     assert row_bands(2, 5) == [(0, 1), (1, 2)]
 

@@ -44,6 +44,7 @@ def test_a_run_that_waits_for_threads_gets_each_thread_freed_until_it_has_its_sh
     shared, futures = SharedThreads(), []
     shared.join("one")
     shared.join("two")
+    assert shared.count() == 2
     assert start_until_refused(shared, "one", futures) == 4      # "two" does not want threads yet: all are lent
     assert start_until_refused(shared, "two", futures) == 0      # refused: it now waits for threads
     futures[0].set_result(None)
@@ -58,6 +59,7 @@ def test_a_run_that_waits_for_threads_gets_each_thread_freed_until_it_has_its_sh
     futures[2].set_result(None)
     assert start_until_refused(shared, "one", futures) == 1
     shared.leave("two")                                          # its pieces no longer count
+    assert shared.count() == 1
     assert [shared.running[f][0] for f in shared.futures()] == ["one"] * 2
     assert start_until_refused(shared, "one", futures) == 2
 

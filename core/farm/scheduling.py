@@ -38,10 +38,12 @@ class Board:
     bands: Mapping[int, int]
 
 
-def band_count(threads: Mapping[str, int]) -> int:
-    """The bands a frame's judging canvas is cut into on workers of ``threads`` ({worker: threads}): one per
-    thread, at least 1, at most MAX_BANDS."""
-    return max(1, min(sum(threads.values()), MAX_BANDS))
+def band_count(threads: Mapping[str, int], shots: int = 1) -> int:
+    """The bands a frame's judging canvas is cut into on workers of ``threads`` ({worker: threads}) shared by
+    ``shots`` shots painted at once: one per thread of the shot's share (the threads over the shots), at least 1,
+    at most MAX_BANDS. A band lays again every stroke across its edges, so bands beyond a shot's share cost work
+    the other shots' pieces would have used."""
+    return max(1, min(sum(threads.values()) // max(1, shots), MAX_BANDS))
 
 
 def frames_ahead(committed: int, count: int, threads: Mapping[str, int]) -> int:

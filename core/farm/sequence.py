@@ -142,7 +142,8 @@ class ClusterRun:
         made; return the first frame that has not lived."""
         if self.made(PieceKey(PieceKind.CARRY, living)) and living not in self.bands:
             step = self.futures[PieceKey(PieceKind.CARRY, living)].result()
-            self.bands[living] = judging_bands(step, self.run.shot.shape[0], band_count(self.threads))
+            self.bands[living] = judging_bands(step, self.run.shot.shape[0],
+                                               band_count(self.threads, self.shared.count()))
         if self.made(PieceKey(PieceKind.BIRTH, living)) and living not in self.gathering:
             birth = self.futures[PieceKey(PieceKind.BIRTH, living)]
             holders = list(self.client.who_has([birth]).values())

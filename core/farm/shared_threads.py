@@ -39,6 +39,11 @@ class SharedThreads:
             for future in [f for f, (owner, _) in self.running.items() if owner is run]:
                 del self.running[future]
 
+    def count(self) -> int:
+        """The runs sharing the threads now."""
+        with self.lock:
+            return len(self.runs)
+
     def started(self, run, future, worker: Optional[str]) -> None:
         """``run`` sent the piece of ``future`` to ``worker``."""
         with self.lock:
