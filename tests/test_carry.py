@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from core.sequence.carry import crowded, folded, hidden, resized, stretched
 from core.strokes.stroke_list import PAINTING_BRUSH, ROUND_BRUSH, StrokeList
@@ -77,3 +78,41 @@ def test_a_stroke_dies_when_every_pixel_around_it_asks_for_a_size_two_steps_away
     # 16 on 16: kept; 4 on 16: two steps; 32 on 4: three steps; 16 by the boundary sees 16 within its width;
     # a round-brush dab keeps its size whatever the partition asks
     assert resized(anchors, size, brush, size_map, sizes).tolist() == [False, True, True, False, False]
+
+
+def window_ranks(size_map: np.ndarray, sizes, rows, cols, own: int) -> tuple:
+    """(least, greatest) rank in ``sizes`` of the sizes ``size_map`` asks for in the (2 (own // 2) + 1)-pixel
+    square around each (rows, cols) pixel, cut at the edges: looked up pixel by pixel."""
+    rank = {s: k for k, s in enumerate(sizes)}
+    half = own // 2
+    h, w = size_map.shape
+    least, greatest = [], []
+    for r, c in zip(rows, cols, strict=True):
+        window = size_map[max(r - half, 0):min(r + half + 1, h), max(c - half, 0):min(c + half + 1, w)]
+        ranks = [rank[int(s)] for s in np.unique(window)]
+        least.append(min(ranks))
+        greatest.append(max(ranks))
+    return np.array(least), np.array(greatest)
+
+
+@pytest.mark.parametrize("asked", [(48, 24, 12, 6, 3), (24, 12), (6, 3)])
+def test_resized_agrees_with_the_ranks_looked_up_around_each_anchor_on_a_jittered_partition(asked):
+    rng = np.random.default_rng(3)
+    sizes = (48, 24, 12, 6, 3)
+    blocks = rng.choice(asked, size=(9, 14))                                   # the sizes the partition asks for
+    size_map = np.kron(blocks, np.ones((7, 7), np.int32))[:60, :95]            # grids of 7 px, cut at the edge
+    n = 400
+    anchors = np.stack([rng.uniform(-2.0, 96.0, n), rng.uniform(-2.0, 61.0, n)], axis=1)   # a few off the frame
+    size = rng.choice(sizes, size=n)
+    brush = np.where(rng.random(n) < 0.9, PAINTING_BRUSH, ROUND_BRUSH)
+    dies = resized(anchors, size, brush, size_map, sizes)
+    rows = np.clip(np.floor(anchors[:, 1] + 0.5).astype(int), 0, 59)
+    cols = np.clip(np.floor(anchors[:, 0] + 0.5).astype(int), 0, 94)
+    rank = {s: k for k, s in enumerate(sizes)}
+    for own in sizes:
+        pick = np.flatnonzero((size == own) & (brush == PAINTING_BRUSH))
+        least, greatest = window_ranks(size_map, sizes, rows[pick], cols[pick], own)
+        expected = (least - rank[own] >= 2) | (rank[own] - greatest >= 2)
+        assert dies[pick].tolist() == expected.tolist()
+    assert not dies[brush == ROUND_BRUSH].any()
+    assert 0 < dies.sum() < n                                                   # both outcomes occur

@@ -18,10 +18,10 @@ from dataclasses import replace
 from typing import Dict, NamedTuple, Sequence
 
 import numpy as np
-from scipy import ndimage
 from scipy.spatial import cKDTree
 
 from ..motion.warp import bilinear, inside_frame
+from ..strokes.layout import summed_area
 from ..strokes.path import nearest_pixels, polygon_lengths
 from ..strokes.smoothing import SmoothedImage
 from ..strokes.stroke_list import PAINTING_BRUSH
@@ -131,18 +131,43 @@ def resized(anchor: np.ndarray, size: np.ndarray, brush: np.ndarray, size_map: n
     """(N,) bool: every pixel within half a stroke's width of its anchor (N, 2) px asks for a stroke size
     SIZE_STEPS or more standard ``sizes`` (px, descending) away from its ``size`` (N,) px, by ``size_map`` (H, W)
     px; only strokes of the painting's brush (``brush`` (N,)). Looking around the anchor, not at its pixel alone,
-    keeps a partition's jitter (a grid boundary moved by a pixel's motion) from killing strokes."""
-    rank = np.zeros(max(int(np.max(size_map)), int(np.max(size, initial=0)), max(sizes)) + 1, np.int64)
+    keeps a partition's jitter (a grid boundary moved by a pixel's motion) from killing strokes.
+
+    The window of a stroke s px wide is the (2 floor(s / 2) + 1)-pixel square around its anchor's pixel, cut at
+    the frame's edges. With r a size's rank in ``sizes`` (0 the largest), every pixel there asks for a size SIZE_STEPS
+    finer when none ranks below r + SIZE_STEPS, and SIZE_STEPS coarser when all rank below r - SIZE_STEPS + 1: counted
+    at the anchors alone from a summed-area table of the pixels ranking below each threshold, one at a time
+    (none where no pixel or every pixel does)."""
+    rank = np.zeros(max(int(np.max(size_map)), int(np.max(size, initial=0)), max(sizes)) + 1, np.int16)
     rank[np.asarray(sizes, np.int64)] = np.arange(len(sizes))
     wanted = rank[size_map]
-    rows, cols = nearest_pixels(size_map.shape, anchor[:, 0], anchor[:, 1])
+    h, w = wanted.shape
+    rows, cols = nearest_pixels((h, w), anchor[:, 0], anchor[:, 1])
     out = np.zeros(len(anchor), bool)
-    for own in np.unique(size[brush == PAINTING_BRUSH]).tolist():
-        pick = (size == own) & (brush == PAINTING_BRUSH)
-        window = 2 * (int(own) // 2) + 1
-        finest = ndimage.maximum_filter(wanted, size=window, mode="nearest")[rows[pick], cols[pick]]
-        coarsest = ndimage.minimum_filter(wanted, size=window, mode="nearest")[rows[pick], cols[pick]]
-        out[pick] = (coarsest - rank[own] >= SIZE_STEPS) | (rank[own] - finest >= SIZE_STEPS)
+    painting = np.asarray(brush) == PAINTING_BRUSH
+    owns = np.unique(size[painting]).tolist()
+    windows = {}                                   # own size: (picked strokes, first row, stop, first column, stop)
+    for own in owns:
+        pick = np.flatnonzero((size == own) & painting)
+        half = int(own) // 2
+        windows[own] = (pick, np.maximum(rows[pick] - half, 0), np.minimum(rows[pick] + half + 1, h),
+                        np.maximum(cols[pick] - half, 0), np.minimum(cols[pick] + half + 1, w))
+    finer = {own: int(rank[own]) + SIZE_STEPS for own in owns}          # no pixel ranks below this
+    coarser = {own: int(rank[own]) - SIZE_STEPS + 1 for own in owns}     # every pixel ranks below this
+    lowest, highest = int(wanted.min()), int(wanted.max())
+    for threshold in sorted(set(finer.values()) | set(coarser.values())):
+        table = summed_area(wanted < threshold) if lowest < threshold <= highest else None
+        for own in owns:
+            pick, r0, r1, c0, c1 = windows[own]
+            area = (r1 - r0) * (c1 - c0)
+            if table is None:                      # no pixel ranks below the threshold, or every one does
+                below = area if threshold > highest else np.zeros_like(area)
+            else:
+                below = table[r1, c1] - table[r0, c1] - table[r1, c0] + table[r0, c0]
+            if finer[own] == threshold:
+                out[pick] |= below == 0
+            if coarser[own] == threshold:
+                out[pick] |= below == area
     return out
 
 

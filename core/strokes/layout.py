@@ -110,10 +110,18 @@ def choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, 
 def grids_holding(grids: np.ndarray, places: np.ndarray) -> np.ndarray:
     """(N,) bool: which of N (N, 4) grids (x0, y0, x1, y1) hold a pixel where (H, W) bool ``places`` is True, by a
     summed-area table of ``places``."""
-    table = np.zeros((places.shape[0] + 1, places.shape[1] + 1), np.int64)
-    np.cumsum(np.cumsum(places, axis=0, dtype=np.int64), axis=1, out=table[1:, 1:])
+    table = summed_area(places)
     x0, y0, x1, y1 = np.asarray(grids, np.int64).reshape(-1, 4).T
     return (table[y1, x1] - table[y0, x1] - table[y1, x0] + table[y0, x0]) > 0
+
+
+def summed_area(mask: np.ndarray) -> np.ndarray:
+    """(H + 1, W + 1) int32 (int64 beyond 2^31 pixels): the summed-area table of (H, W) bool ``mask``: entry [r, c]
+    counts the True pixels of rows < r and columns < c."""
+    h, w = mask.shape
+    table = np.zeros((h + 1, w + 1), np.int32 if h * w < 2 ** 31 else np.int64)
+    np.cumsum(np.cumsum(mask, axis=0, dtype=table.dtype), axis=1, out=table[1:, 1:])
+    return table
 
 
 def _choose_anchors(grids: np.ndarray, coverage: np.ndarray, colour: np.ndarray, reference,
