@@ -29,7 +29,8 @@ a projection to many machines, and the measured speed-up of `core sequence --wor
    times: max(chain, commits, work / threads) + fill + drain, where chain =
    the first frame's life + 249 x (carry + judging + birth), the life chain,
    judging on T threads being the longest of the min(T, 8) bands the driver
-   cuts (``core.farm.scheduling.MAX_BANDS``; min(T / S, 8) for S shots at once); commits = 250 x commit, which
+   cuts (``core.farm.scheduling.MAX_BANDS``; min(T / S, 8) for S shots at
+   once); commits = 250 x commit, which
    the client makes in frame order beside the life chain (it sends the next
    life's pieces out before each commit); work = every piece of every
    frame on the workers, fill = the first frame's reading (before the chain
