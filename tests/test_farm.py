@@ -8,6 +8,7 @@ import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -24,6 +25,7 @@ from core.api import paint_batch  # noqa: E402
 from core.errors import Cancelled, OutputError  # noqa: E402
 from core.farm.cluster import Farm, FarmError  # noqa: E402
 from core.params import Params, SequenceSettings  # noqa: E402
+from core.sequence.pieces import write as written_maps  # noqa: E402
 
 pytestmark = pytest.mark.cluster
 
@@ -326,6 +328,44 @@ def test_a_piece_that_fails_with_an_os_error_is_named_and_not_taken_for_a_lost_s
                         r"no space is left on the device \(/shared/out/\.staging-1/height_0011\.exr\)\.",
                         str(failed.value)), str(failed.value)
     assert not list((tmp_path / "out").glob("painting_*"))
+
+
+WRITING = threading.Event()
+"""Set once a piece writes the maps of frame 13 or later (``slow_write``)."""
+
+
+def slow_write(folder, number, *args, **kwargs):
+    """Write frame ``number``'s maps (``pieces.write``), from frame 13 on a second after telling ``WRITING``."""
+    if number >= 13:
+        WRITING.set()
+        time.sleep(1.0)
+    return written_maps(folder, number, *args, **kwargs)
+
+
+def test_a_run_stopped_while_a_worker_writes_maps_leaves_complete_frames_and_no_staging_folder(tmp_path, footage,
+                                                                                                 monkeypatch):
+    import distributed
+
+    import core.sequence.pieces
+    from core.farm.sequence import ClusterFrames
+    from core.files.frames import find_frames
+    from core.files.staging import STAGING_PREFIX
+    from core.sequence.shot import paint_sequence
+
+    frames, alone = footage
+    WRITING.clear()
+    monkeypatch.setattr(core.sequence.pieces, "write", slow_write)
+    out = tmp_path / "out"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as \
+            local, distributed.Client(local) as client:
+        with pytest.raises(Cancelled):
+            paint_sequence(find_frames([str(frames)]), out, Params(**PARAMS), cancel=WRITING.is_set,
+                           frames_painter=ClusterFrames(client))
+    assert not [p.name for p in out.iterdir() if p.name.startswith(STAGING_PREFIX)]
+    maps = {name: data for name, data in folder_bytes(out).items() if re.search(r"_\d{4}\.", name)}
+    assert maps and all(alone[name] == data for name, data in maps.items())
+    paint_sequence_files([frames], out, Params(**PARAMS))
+    assert folder_bytes(out) == alone
 
 
 @pytest.mark.parametrize("painting", ["sequence", "batch"])

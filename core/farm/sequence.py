@@ -29,11 +29,13 @@ folders; one is committed and the other removed at the end.
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import secrets
 import time
 from typing import Dict, List, Set
 
 from ..errors import Cancelled
+from ..files import signals
 from ..files.staging import recover
 from ..progress import CancelFn, ProgressFn
 from ..sequence.frame_step import PaintedFrame
@@ -46,6 +48,9 @@ from .shared_threads import SharedThreads
 
 WAIT_SECONDS = 0.25
 """Seconds between looks at the cancel callback while tasks run."""
+
+STOP_SECONDS = 30.0
+"""The longest a stopped run waits for the maps it was writing (``ClusterRun.stop``)."""
 
 
 def lived_strokes(painted: PaintedFrame) -> PaintedFrame:
@@ -99,8 +104,27 @@ class ClusterRun:
         self.shared.join(self)
         try:
             self.paint_frames(report, progress, cancel)
+        except BaseException:
+            self.stop()
+            raise
         finally:
             self.shared.leave(self)
+
+    def stop(self) -> None:
+        """Leave the output folder as its committed frames alone left it, before the run lets go of its lock.
+
+        The pieces not done are cancelled, but a worker cannot be stopped midway through a piece: a WRITE piece
+        already sent writes its staging folder whatever the cancel. So the WRITE pieces sent are waited for (at most
+        STOP_SECONDS; each was sent with its inputs made) and then every staging folder not committed is removed.
+        A lost scheduler or worker ends the wait early; the staging folders are removed all the same."""
+        distributed = import_distributed()
+        writing = [f for k, f in self.futures.items() if k.kind is PieceKind.WRITE and not f.done()]
+        others = [f for k, f in self.futures.items() if k.kind is not PieceKind.WRITE and not f.done()]
+        with signals.deferred(), contextlib.suppress(Exception):
+            self.client.cancel(others + [f for f in self.gathering.values() if not f.done()])
+            distributed.wait(writing, timeout=STOP_SECONDS)
+        with signals.deferred():
+            recover(self.folder.folder)
 
     def paint_frames(self, report: dict, progress: ProgressFn, cancel: CancelFn) -> None:
         """``paint``'s loop."""
