@@ -249,6 +249,9 @@ def _add_sequence_parser(sub) -> None:
     p.add_argument("--frames", metavar="A-B", help="paint frames A to B only (A-, -B and A also work)")
     p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
                    help="frames a stroke takes to fade in when born and out when it dies (default: %(default)s)")
+    p.add_argument("--measures", action="store_true",
+                   help="also measure each pair of frames' steadiness (warping errors, stillness) into report.json; "
+                        "it changes no painted byte")
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_run_options(p)
@@ -269,6 +272,8 @@ def _add_batch_parser(sub) -> None:
         ("OUTROOT", "folder under which each painting gets its own folder (created if missing)"))
     p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
                    help="a shot's frames a stroke takes to fade in and out (default: %(default)s)")
+    p.add_argument("--measures", action="store_true",
+                   help="also measure each pair of a shot's frames' steadiness into its report.json")
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_method_options(p)
@@ -285,7 +290,7 @@ def run_batch(args: argparse.Namespace, progress) -> None:
     with reused_heap():
         reports = paint_batch(args.input, args.output, params_from_args(args), args.normal_map, progress=progress,
                               max_memory=max_memory(args), farm=farm_from_args(args),
-                              settings=SequenceSettings(args.fade_frames, args.normal_map).validate())
+                              settings=SequenceSettings(args.fade_frames, args.normal_map, args.measures).validate())
     if progress is not None:
         progress.close()
     for source, report in zip(args.input, reports, strict=True):
@@ -365,7 +370,7 @@ def run_sequence(args: argparse.Namespace, progress) -> None:
     from .heap import reused_heap
 
     params = params_from_args(args).validate_shot()
-    settings = SequenceSettings(args.fade_frames, args.normal_map).validate()
+    settings = SequenceSettings(args.fade_frames, args.normal_map, args.measures).validate()
     with reused_heap():
         paint_sequence_files(args.input, args.output, params, settings, args.frames, progress=progress,
                              max_memory=max_memory(args), farm=farm_from_args(args),

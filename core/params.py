@@ -269,10 +269,13 @@ class SequenceSettings:
 
     fade_frames: K, 1 to 100, the frames a stroke takes to fade in when born and out when it dies.
     normal_map: also write each frame's normal map.
+    measures: also measure each pair of frames' steadiness into report.json (ALGORITHM §9, "Measures"); it
+    changes no painted byte.
     """
 
     fade_frames: int = 3
     normal_map: bool = False
+    measures: bool = False
 
     def validate(self) -> "SequenceSettings":
         """Return self; ParameterError (one sentence) for a setting out of range."""

@@ -21,9 +21,9 @@ def key(kind: PieceKind, index: int, band: int = 0) -> PieceKey:
     return PieceKey(kind, index, band)
 
 
-def board(made=(), running=(), lived=(), bands=None, count=6) -> Board:
+def board(made=(), running=(), lived=(), bands=None, count=6, measures=False) -> Board:
     """A run of ``count`` frames: the keys ``made`` and those still ``running`` started."""
-    return Board(count, set(made) | set(running), set(made), set(lived), bands or {})
+    return Board(count, set(made) | set(running), set(made), set(lived), bands or {}, measures)
 
 
 def test_the_first_frame_prepares_then_lives_before_the_frames_after_it_prepare():
@@ -54,11 +54,19 @@ def test_a_frame_lives_only_after_the_frame_before_has_lived():
     assert not ready_to_live(board(made=ready, lived=[5], count=5), 5)
 
 
-def test_a_frame_is_written_once_it_and_the_frame_before_are_shown():
-    assert ready_to_write(board(made=[key(SHOWN, 0)]), 0)
-    assert not ready_to_write(board(made=[key(SHOWN, 1), key(MOTION, 1)]), 1)
-    assert ready_to_write(board(made=[key(SHOWN, 0), key(SHOWN, 1), key(MOTION, 1)]), 1)
-    assert not ready_to_write(board(made=[key(SHOWN, 0), key(SHOWN, 1), key(MOTION, 1), key(WRITE, 1)]), 1)
+def test_a_measured_frame_is_written_once_it_and_the_frame_before_are_shown():
+    assert ready_to_write(board(made=[key(SHOWN, 0)], measures=True), 0)
+    assert not ready_to_write(board(made=[key(SHOWN, 1), key(MOTION, 1)], measures=True), 1)
+    assert not ready_to_write(board(made=[key(SHOWN, 0), key(SHOWN, 1)], measures=True), 1)
+    assert ready_to_write(board(made=[key(SHOWN, 0), key(SHOWN, 1), key(MOTION, 1)], measures=True), 1)
+    assert not ready_to_write(board(made=[key(SHOWN, 0), key(SHOWN, 1), key(MOTION, 1), key(WRITE, 1)],
+                                    measures=True), 1)
+
+
+def test_a_frame_not_measured_is_written_once_it_is_shown():
+    assert ready_to_write(board(made=[key(SHOWN, 1)]), 1)
+    assert not ready_to_write(board(made=[key(SHOWN, 0), key(MOTION, 1)]), 1)
+    assert not ready_to_write(board(made=[key(SHOWN, 1), key(WRITE, 1)]), 1)
 
 
 def test_lived_frames_are_shown_and_written_before_frames_further_ahead_prepare():

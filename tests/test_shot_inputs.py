@@ -64,7 +64,7 @@ def footage(tmp_path_factory):
 def painted(footage, tmp_path_factory):
     """The footage painted into a folder of its own by the command line."""
     out = tmp_path_factory.mktemp("painted") / "shot"
-    result = run("sequence", footage, "-o", out)
+    result = run("sequence", footage, "-o", out, "--measures")
     assert result.returncode == 0, result.stderr
     return out
 
@@ -236,7 +236,7 @@ def test_a_shot_whose_every_pixel_leaves_the_frame_goes_on_quietly(tmp_path):
     vector_footage(footage_folder, 1e30, rows=48)
     at_once, resumed = tmp_path / "at_once", tmp_path / "resumed"
     for arguments in ([at_once], [resumed, "--frames", "1-2"], [resumed]):
-        result = run("sequence", footage_folder, "-o", *arguments, warnings_as_errors=True)
+        result = run("sequence", footage_folder, "-o", *arguments, "--measures", warnings_as_errors=True)
         assert result.returncode == 0 and not result.stderr.strip(), result.stderr
     assert painted_bytes(resumed) == painted_bytes(at_once)
     assert strict_json(resumed / "report.json")["warping_error"]["footage"] is None
@@ -250,11 +250,31 @@ def test_a_shot_report_is_strict_json_with_null_for_a_ratio_to_nothing(painted):
     assert isinstance(report["warping_error"]["footage"], float)
 
 
+def test_measures_change_no_painted_byte_and_a_run_without_them_leaves_none_in_the_report(tmp_path, painted,
+                                                                                         footage):
+    """``--measures`` adds each pair's steadiness to report.json and nothing else; a frame painted without it
+    carries none, and the report's figures are those of the run that wrote it last."""
+    plain = tmp_path / "plain"
+    result = run("sequence", footage, "-o", plain)
+    assert result.returncode == 0, result.stderr
+    assert painted_bytes(plain) == painted_bytes(painted)
+    report = strict_json(plain / "report.json")
+    assert "warping_error" not in report and "stillness" not in report
+    assert not [entry for entry in report["per_frame"] if "warping_error" in entry or "measures" in entry["seconds"]]
+    assert "warping_error" in strict_json(painted / "report.json")["per_frame"][1]
+    resumed = tmp_path / "resumed"
+    for arguments in (["--frames", "11", "--measures"], []):
+        result = run("sequence", footage, "-o", resumed, *arguments)
+        assert result.returncode == 0, result.stderr
+    assert painted_bytes(resumed) == painted_bytes(painted)
+    assert "warping_error" not in strict_json(resumed / "report.json")
+
+
 def test_a_shot_report_where_no_pixel_stands_still_is_strict_json_with_null(tmp_path):
     """No pixel of the footage stands still (half of it leaves the frame, half moves 2 px): each pair's stillness
     and the shot's have no value."""
     footage_folder = vector_footage(tmp_path / "moving", 1e30)
-    result = run("sequence", footage_folder, "-o", tmp_path / "painted")
+    result = run("sequence", footage_folder, "-o", tmp_path / "painted", "--measures")
     assert result.returncode == 0, result.stderr
     report = strict_json(tmp_path / "painted" / "report.json")
     for pair in report["per_frame"][1:]:

@@ -29,13 +29,15 @@ stroke across a band's edge is laid in both, so more bands than this cost more t
 class Board:
     """Where a run of ``count`` frames stands: the pieces ``started`` (running or made) and ``made``, the frames
     ``lived`` whose strokes this process holds, and ``bands``: {frame index: its judging bands} once its carry is
-    made."""
+    made; ``measures``: whether a frame's WRITE needs the frame before's SHOWN and the motion between them
+    (``ShotSettings.measures``)."""
 
     count: int
     started: Set[PieceKey]
     made: Set[PieceKey]
     lived: Set[int]
     bands: Mapping[int, int]
+    measures: bool = False
 
 
 def band_count(threads: Mapping[str, int], shots: int = 1) -> int:
@@ -91,9 +93,10 @@ def ready_to_live(board: Board, index: int) -> bool:
 
 
 def ready_to_write(board: Board, index: int) -> bool:
-    """Whether frame ``index``'s maps can be written: its WRITE is not started, it is shown and, after the first
-    frame, the frame before is shown and the motion between them made."""
-    before = [PieceKey(PieceKind.SHOWN, index - 1), PieceKey(PieceKind.MOTION, index)] if index else []
+    """Whether frame ``index``'s maps can be written: its WRITE is not started, it is shown and, when the shot
+    measures and after the first frame, the frame before is shown and the motion between them made."""
+    before = [PieceKey(PieceKind.SHOWN, index - 1), PieceKey(PieceKind.MOTION, index)] if index and board.measures \
+        else []
     return (PieceKey(PieceKind.WRITE, index) not in board.started
             and all(key in board.made for key in [PieceKey(PieceKind.SHOWN, index)] + before))
 

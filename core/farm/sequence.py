@@ -134,7 +134,8 @@ class ClusterRun:
         where = describe(self.client)
         if self.start > 0:
             self.strokes[self.start - 1] = self.run.resumed_frame(self.folder.folder)
-            self.submit(PieceKey(PieceKind.SHOWN, self.start - 1))
+            if self.run.shot.measures:
+                self.submit(PieceKey(PieceKind.SHOWN, self.start - 1))
         committed = living = self.start
         self.report_progress(progress, committed, where)
         while committed < self.count:
@@ -186,7 +187,8 @@ class ClusterRun:
     def board(self) -> Board:
         """Where the run stands (``scheduling.Board``)."""
         return Board(self.count, set(self.futures), {k for k, f in self.futures.items() if f.done()},
-                     set(self.strokes), {index: len(bands) for index, bands in self.bands.items()})
+                     set(self.strokes), {index: len(bands) for index, bands in self.bands.items()},
+                     self.run.shot.measures)
 
     def dispatch(self, committed: int, living: int) -> None:
         """Start the most urgent pieces that can run, while fewer pieces run than the cluster has threads."""

@@ -20,8 +20,9 @@ BIRTH     frame t's strokes (``PaintedFrame``): births on the    CARRY t when it
           judging canvas, or the carry's when it completed       PREPARE t, BIRTH t-1, MOTION t, CARRY t
           the life                                               and every JUDGE band of frame t
 SHOWN     frame t as shown (``ShownFrame``)                      BIRTH t
-WRITE     frame t's maps and measures in a staging folder        PREPARE t, BIRTH t, SHOWN t; after the
-          (``WrittenFrame``)                                     first frame PREPARE t-1, SHOWN t-1, MOTION t
+WRITE     frame t's maps (and measures, when the shot            PREPARE t, BIRTH t, SHOWN t; when measured,
+          measures) in a staging folder (``WrittenFrame``)       after the first frame PREPARE t-1, SHOWN
+                                                                 t-1, MOTION t
 ========  =====================================================  ==========================================
 
 ``ShotPieces.piece`` is the declaration. How many JUDGE bands frame t has
@@ -242,7 +243,8 @@ class ShotPieces:
                          staged=True)
         if kind is PieceKind.SHOWN:
             return Piece(key, (lived,), partial(shown, shot))
-        before = (PieceKey(PieceKind.PREPARE, t - 1), PieceKey(PieceKind.SHOWN, t - 1), motion) if t else ()
+        before = (PieceKey(PieceKind.PREPARE, t - 1), PieceKey(PieceKind.SHOWN, t - 1), motion) \
+            if t and shot.measures else ()
         return Piece(key, (prepared, lived, PieceKey(PieceKind.SHOWN, t)) + before,
                      partial(write, self.folder, self.numbers[t], shot))
 

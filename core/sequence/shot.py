@@ -133,7 +133,7 @@ def shot_settings(frames: Frames, params: Params, settings: SequenceSettings) ->
     """The settings ``frames`` are painted with: ``params``, ``settings``, their motion's source (from the frames'
     headers) and their shape."""
     return ShotSettings(params, settings.fade_frames, settings.normal_map, motion_source(frames.paths),
-                        (frames.height, frames.width))
+                        (frames.height, frames.width), settings.measures)
 
 
 class Run:
@@ -213,8 +213,14 @@ class Run:
         rolled = json.loads(json.dumps(report))
         rolled["per_frame"], rolled["frames"] = rolled["per_frame"][:keep], rolled["frames"][:keep]
         rolled["lives"]["bytes"] = lives_bytes
-        rolled.update(sequence_figures(rolled["per_frame"], len(self.frames.paths)))
+        self.figure(rolled)
         return rolled
+
+    def figure(self, report: dict) -> None:
+        """Put the figures of ``report``'s frames (``sequence_figures``) into it, in place of any earlier run's."""
+        for key in STEADINESS_FIGURES:
+            report.pop(key, None)
+        report.update(sequence_figures(report["per_frame"], len(self.frames.paths), self.shot.measures))
 
     def write_fault(self, folder: Path, report: dict, exc: Exception) -> Exception:
         """The OutputError of ``exc``, a failure to write frame after ``report``'s last into ``folder``: one
@@ -256,7 +262,7 @@ class Run:
         made: Dict[PieceKey, object] = {}
         if start > 0:
             made[PieceKey(PieceKind.BIRTH, start - 1)] = self.resumed_frame(folder.folder)
-            for kind in (PieceKind.PREPARE, PieceKind.SHOWN):
+            for kind in (PieceKind.PREPARE, PieceKind.SHOWN) if self.shot.measures else (PieceKind.PREPARE,):
                 self.make(pieces.piece(PieceKey(kind, start - 1)), made, None)
         with FrameBehind() as behind, FrameAhead() as ahead:
             try:
@@ -337,7 +343,7 @@ class Run:
                 entry["files"] = written.files
                 updated = dict(report, per_frame=report["per_frame"] + [entry], frames=report["frames"] + [number],
                                lives=dict(report["lives"], bytes=lives_bytes))
-                updated.update(sequence_figures(updated["per_frame"], len(self.frames.paths)))
+                self.figure(updated)
                 write_json(staging / REPORT_FILE, updated)
         except BaseException as exc:  # a fault or a signal before the commit point: the frame never was
             committed_now = isinstance(exc, signals.Interrupted) and exc.committed
@@ -450,10 +456,28 @@ def figure_mean(values: List[Optional[float]]) -> float:
     return float(np.nanmean(numbers)) if (~np.isnan(numbers)).any() else float("nan")
 
 
-def sequence_figures(per_frame: List[dict], frame_count: int) -> dict:
-    """The sequence's figures from its frames' entries: stroke counts, seconds per stage, mean PSNR, the warping
-    errors (the height's normalised to [0, 1] over the frames painted: divided by their height range squared) and
-    their ratios to the footage's, and the stillness of the painting against the footage's."""
+STEADINESS_FIGURES = ("warping_error", "stillness")
+"""The keys of report.json that ``steadiness_figures`` writes."""
+
+
+def sequence_figures(per_frame: List[dict], frame_count: int, measures: bool) -> dict:
+    """The sequence's figures from its frames' entries: stroke counts, seconds per stage and mean PSNR; with
+    ``measures``, also the warping errors of the pairs measured (the height's normalised to [0, 1] over the frames
+    painted: divided by their height range squared) and their ratios to the footage's, and the stillness of the
+    painting against the footage's."""
+    seconds: Dict[str, float] = {}
+    for entry in per_frame:
+        for name, value in entry["seconds"].items():
+            seconds[name] = round(seconds.get(name, 0.0) + value, 4)
+    figures = {"complete": len(per_frame) >= frame_count,
+               "strokes": {"alive": [e["alive"] for e in per_frame], "born": [e["born"] for e in per_frame],
+                           "died": [e["died"] for e in per_frame]},
+               "seconds": seconds, "psnr": figure_mean([e["psnr"] for e in per_frame])}
+    return dict(figures, **steadiness_figures(per_frame)) if measures else figures
+
+
+def steadiness_figures(per_frame: List[dict]) -> dict:
+    """The sequence's warping errors and stillness (``sequence_figures``) over the pairs ``per_frame`` measured."""
     pairs = [entry for entry in per_frame if "warping_error" in entry]
     low = min(entry["height_range"][0] for entry in per_frame)
     high = max(entry["height_range"][1] for entry in per_frame)
@@ -463,15 +487,7 @@ def sequence_figures(per_frame: List[dict], frame_count: int) -> dict:
     still = [p for p in pairs if p["still_pixels"]]
     still_footage = figure_mean([p["stillness"]["footage"] for p in still])
     still_painting = figure_mean([p["stillness"]["painting"] for p in still])
-    seconds: Dict[str, float] = {}
-    for entry in per_frame:
-        for name, value in entry["seconds"].items():
-            seconds[name] = round(seconds.get(name, 0.0) + value, 4)
-    return {"complete": len(per_frame) >= frame_count,
-            "strokes": {"alive": [e["alive"] for e in per_frame], "born": [e["born"] for e in per_frame],
-                        "died": [e["died"] for e in per_frame]},
-            "seconds": seconds, "psnr": figure_mean([e["psnr"] for e in per_frame]),
-            "warping_error": {"footage": footage, "painting": painting, "height": height,
+    return {"warping_error": {"footage": footage, "painting": painting, "height": height,
                               "painting_ratio": painting / footage if footage else float("nan")},
             "stillness": {"footage": still_footage, "painting": still_painting,
                           "ratio": still_painting / still_footage if still_footage else float("nan")}}

@@ -16,6 +16,7 @@ class ShotSettings:
     params: the painter's parameters (the paper's layout). fade_frames: K, 1 to 100, frames a stroke fades in
     and out over. normal_map: each frame also gets its normal map. motion: the motion's source,
     ``core.motion.source.VECTOR_PASS_MOTION`` or ``OPTICAL_FLOW_MOTION``. shape: (H, W) px of every frame.
+    measures: each frame's maps are written with the steadiness of the pair it ends (``frame_work.pair_measures``).
     """
 
     params: Params
@@ -23,6 +24,7 @@ class ShotSettings:
     normal_map: bool
     motion: str
     shape: Tuple[int, int]
+    measures: bool = False
 
     @property
     def vector_pass(self) -> bool:
