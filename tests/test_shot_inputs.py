@@ -261,6 +261,7 @@ def test_measures_change_no_painted_byte_and_a_run_without_them_leaves_none_in_t
     report = strict_json(plain / "report.json")
     assert "warping_error" not in report and "stillness" not in report
     assert not [entry for entry in report["per_frame"] if "warping_error" in entry or "measures" in entry["seconds"]]
+    assert "motion" in report["per_frame"][1]["seconds"] and "motion" in report["seconds"]
     assert "warping_error" in strict_json(painted / "report.json")["per_frame"][1]
     resumed = tmp_path / "resumed"
     for arguments in (["--frames", "11", "--measures"], []):

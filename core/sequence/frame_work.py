@@ -91,7 +91,7 @@ def written_frame(folder: Path, number: int, shot: ShotSettings, painted: Painte
     """Frame ``number``'s maps written into a new staging folder of the output ``folder``, with its report entry:
     PSNR against the frame, the height's range and (after the first frame) the pair's measures against the frame
     before (``before_shown``, ``before``, ``motion``). A failure removes the staging folder."""
-    seconds = {"reading": frame.seconds, "laying": shown.seconds, **({"motion": motion.seconds} if motion else {})}
+    seconds = {"reading": frame.seconds, "laying": shown.seconds}
     clock = time.perf_counter()
     if before is not None:
         measures = pair_measures(before.image, frame.image, before_shown.canvas, shown.canvas, motion)

@@ -150,7 +150,7 @@ def carry_step(shot: ShotSettings, index: int, prepared, previous: Optional[Pain
     if previous is None:
         return LifeStep(first_frame(image, shot.params, shot.fade_frames, stage), None)
     if unchanged(previous, motion):
-        return LifeStep(previous._replace(born=0, died=0, seconds={}), None)
+        return LifeStep(previous._replace(born=0, died=0, seconds={"motion": motion.seconds}), None)
     made_here = None if prepared.analysed is not None else analyse_frame(image, shot.params, stage.cancel)
     analysed = prepared.analysed or made_here
     return LifeStep(None, carried_frame(previous, image, motion, shot.params, analysed), made_here)
@@ -164,11 +164,11 @@ def judged_rows(shot: ShotSettings, rows: Rows, step: LifeStep) -> CanvasRows:
 def born(shot: ShotSettings, index: int, prepared, previous: PaintedFrame, motion: FrameMotion, step: LifeStep,
          *judging_rows: CanvasRows, stage: Stage = WORKER_STAGE) -> PaintedFrame:
     """Frame ``index``'s strokes: births on the judging canvas of ``judging_rows`` (``frame_step.born_frame``),
-    the frame's analysis's seconds first in its seconds."""
+    the seconds of the frame's analysis and of its motion first in its seconds."""
     analysed = prepared.analysed or step.analysed
     painted = born_frame(previous, index, prepared.frame.image, motion, shot.params, stage, analysed, step.carried,
                          judging_rows)
-    return painted._replace(seconds={"analysis": analysed.seconds, **painted.seconds})
+    return painted._replace(seconds={"analysis": analysed.seconds, "motion": motion.seconds, **painted.seconds})
 
 
 def completed_life(step: LifeStep) -> PaintedFrame:
