@@ -4,11 +4,12 @@ The farm hands the pieces that only need a frame's picture (the motion and
 the writing, ``core.sequence.pieces``) a ``FrameFile``, not the PREPARE
 piece's result, so only what is made (an analysis, a motion, the strokes,
 the frame shown) travels between workers and no piece waits on the worker
-that read a frame. A frame is read five times (its PREPARE piece, the
-motion to it and from it, its writing and the next frame's): at 1920x1080 a
-PNG frame reads in about 35 ms, a multilayer EXR with its Vector pass in
-0.2 to 0.4 s, against 25 MB (58 MB with the Vector pass) to send. None of
-these reads is on the strokes' life chain.
+that read a frame. A frame is read four times (its PREPARE piece, the
+motion to it and from it, and its writing; five when the shot measures, by
+the next frame's writing too): at 1920x1080 a PNG frame reads in about
+35 ms, a multilayer EXR with its Vector pass in 0.2 to 0.4 s, against 25 MB
+(58 MB with the Vector pass) to send. None of these reads is on the
+strokes' life chain.
 """
 
 from __future__ import annotations
