@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import shutil
 from pathlib import Path
@@ -53,14 +54,16 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     a PaintReliefError whose message is one sentence naming the file and the
     problem, and leaves ``output_dir`` as it was (a folder this call created
     is removed again). Running out of memory is reported the same way.
-    With ``normal_map`` normal.exr is written too (``export.write_painting``).
+    With ``normal_map`` normal.exr is written too (``export.write_painting``). report.json records the input
+    file's SHA-256 ("input_sha256", read before the image), by which ``paint_batch`` knows the painting again.
     """
-    from .files.export import NORMAL_FILE, PAINTING_FILES, write_painting
+    from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
     from .methods.registry import paint
 
     width, height = check_input(input_path, params, mask_path, max_memory)
     budget.check_space(output_dir, input_path, width, height, normal_map)
     pages = reading.image_count(input_path)
+    digest = input_sha256(input_path)
     if pages > 1 and notice is not None:
         notice(pages_notice(input_path, pages))
     try:
@@ -70,7 +73,8 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
             mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
             painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
             with folder.staged() as staging:
-                report = write_painting(staging, painting, str(input_path), normal_map, pages=pages)
+                report = write_painting(staging, painting, str(input_path), normal_map, pages=pages,
+                                        source_sha256=digest)
     except MemoryError:
         raise out_of_memory(input_path) from None
     report["output_dir"] = str(Path(output_dir).resolve())
@@ -104,13 +108,15 @@ def paint_sequence_files(inputs, output_dir, params: Params, settings=None, fram
 def check_shot(inputs, output_dir, params: Params, settings: Optional[SequenceSettings] = None,
                frame_range: Optional[str] = None, max_memory: Optional[int] = None):
     """Everything about a shot that can be refused before work, from names and headers (``paint_sequence_files``
-    says what); returns its ``files.frames.Frames``."""
+    says what; the output folder's own check left for later when ``output_dir`` is None); returns its
+    ``files.frames.Frames``."""
     from .files.frames import check_output_folder, find_frames
 
     params.validate_shot()
     settings = (settings or SequenceSettings()).validate()
     frames = find_frames(inputs, frame_range, params.max_megapixels)
-    check_output_folder(inputs, frames, output_dir, settings.normal_map)
+    if output_dir is not None:
+        check_output_folder(inputs, frames, output_dir, settings.normal_map)
     budget.check_stroke_sizes(params, frames.height, frames.width)
     budget.check(frames.paths[0], frames.width, frames.height, params.layers, max_memory=max_memory)
     return frames
@@ -144,40 +150,58 @@ def is_shot(source) -> bool:
     return os.path.isdir(source) or is_pattern(str(source))
 
 
+KEPT, WENT_ON, PAINTED = "kept", "went on", "painted"
+"""What ``paint_batch`` did with an input, its report's "batch": kept the folder an earlier run painted whole, went on
+with a shot an earlier run left partly painted (or repaired it), or painted it (anew, or into a folder a stopped run
+left unfinished)."""
+
+
 def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, progress: ProgressFn = None,
                 cancel: CancelFn = None, max_memory: Optional[int] = None, farm=None,
-                settings: Optional[SequenceSettings] = None) -> list:
+                settings: Optional[SequenceSettings] = None, fresh: bool = False,
+                notice: Optional[Callable[[str], None]] = None) -> list:
     """Paint each still image and each shot of ``inputs`` into a folder of its own under ``output_root``; return
-    the reports in the inputs' order (each with its "output_dir").
+    the reports in the inputs' order (each with its "output_dir", and its "batch": ``KEPT``, ``WENT_ON`` or
+    ``PAINTED``; ``batch_counts`` counts them).
 
     A shot is an input that is a folder of frames or a ``#`` pattern (``is_shot``): it is painted as
     ``paint_sequence_files`` paints it alone (``settings``: its ``SequenceSettings``), with the same bytes. The
-    folders are named as the panel names a painting's (``files.folders.painting_folders``: ``<stem>_001``, the
-    first counter that is free; a shot's stem is ``shot_files.shot_name``), so a batch never writes over an
-    earlier painting. Every input is checked from its headers first (``check_input``, ``check_shot``): a bad file
-    is refused in one sentence before anything is painted. Stills are painted by ``paint_file``, in this process
-    one after another, or on a Dask cluster with ``farm`` (a ``core.farm.cluster.Farm``), with the same bytes;
-    shots after them, one after another in one process, all at once on a cluster (``farm.batch.paint_shots``).
-    Stopped anywhere, the stills and the complete frames painted stay.
+    folders are named as the panel names a painting's (``<stem>_001``, the first free counter; a shot's stem is
+    ``shot_files.shot_name``), and no folder holding another painting is ever written into. Run again, the batch
+    goes on where it stopped (``batch_folders``): an input whose folder holds its painting whole, from the same
+    input file (its SHA-256) with the same settings, is kept as it is; a shot's folder of the same frames and
+    settings is gone on with as ``paint_sequence_files`` goes on (a complete one is checked and kept); a folder a
+    stopped run left unfinished is painted into; a changed input or setting is painted into the next free folder.
+    With ``fresh`` every input is painted anew into the first free folder (``files.folders.painting_folders``).
+    Every input is checked from its headers first (``check_input``, ``check_shot``): a bad file is refused in one
+    sentence before any folder is looked at. Stills are painted by ``paint_file``, in this process one after
+    another, or on a Dask cluster with ``farm`` (a ``core.farm.cluster.Farm``), with the same bytes; shots after
+    them, one after another in one process, all at once on a cluster (``farm.batch.paint_shots``). The folders are
+    chosen here, before anything is sent to a cluster. Stopped anywhere, the stills and the complete frames painted
+    stay. notice(sentence) hears what a shot's resume repaired, and that a still painted in this process holds
+    several images.
     """
-    from .files.folders import painting_folders
-    from .files.shot_files import shot_name
+    from .files.frames import check_output_folder
 
     if not inputs:
         raise ParameterError("Name at least one image to paint.")
     inputs = [str(source) for source in inputs]
     shots = [is_shot(source) for source in inputs]
-    names = [f"{shot_name(source)}.shot" if shot else source  # an extension for folder_stem to take off
-             for source, shot in zip(inputs, shots, strict=True)]
-    folders = painting_folders(str(output_root), names)
     frames = {}
-    for source, shot, folder in zip(inputs, shots, folders, strict=True):
+    for source, shot in zip(inputs, shots, strict=True):
         if shot:
-            frames[source] = check_shot([source], folder, params, settings, max_memory=max_memory)
+            frames[source] = check_shot([source], None, params, settings, max_memory=max_memory)
         else:
             check_input(source, params, max_memory=max_memory)
+    folders, found = batch_folders(inputs, shots, frames, output_root, params, normal_map, settings, fresh)
+    for source, shot, folder in zip(inputs, shots, folders, strict=True):
+        if shot:
+            check_output_folder([source], frames[source], folder, (settings or SequenceSettings()).normal_map)
     reports: list = [None] * len(inputs)
-    stills = [k for k, shot in enumerate(shots) if not shot]
+    for k, report in found.items():
+        if not shots[k]:
+            reports[k] = dict(report, output_dir=str(Path(folders[k]).resolve()), batch=KEPT)
+    stills = [k for k, shot in enumerate(shots) if not shot and reports[k] is None]
     with connected_farm(farm) as client:
         if stills and client is not None:
             from .farm.batch import paint_stills
@@ -186,7 +210,7 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
             painted = paint_stills(client, paint_file, [(inputs[k], folders[k]) for k in stills], Path(output_root),
                                    params, normal_map, progress, cancel)
             for k, report in zip(stills, painted, strict=True):
-                reports[k] = report
+                reports[k] = dict(report, batch=PAINTED)
         shot_indices = [k for k, shot in enumerate(shots) if shot]
         if len(shot_indices) > 1 and client is not None:
             from .farm.batch import paint_shots
@@ -196,13 +220,13 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
                 return painted_shot(frames[inputs[k]], folders[k], params, settings,
                                     lambda fraction, message: shot_progress(fraction, f"Shot {k + 1}/{len(inputs)}: "
                                                                                       f"{message}"),
-                                    shot_cancel, client, shared=shared)
+                                    shot_cancel, client, notice, shared=shared)
 
             start = len(stills) / len(inputs)
             painted = paint_shots(paint_shot, len(shot_indices), None if progress is None else (
                 lambda fraction, message: progress(start + (1 - start) * fraction, message)), cancel)
             for k, report in zip(shot_indices, painted, strict=True):
-                reports[k] = report
+                reports[k] = dict(report, batch=shot_done(found.get(k), report))
         for k, (source, folder) in enumerate(zip(inputs, folders, strict=True)):
             if reports[k] is not None:
                 continue
@@ -212,10 +236,109 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
                 lambda fraction, message, k=k, stage=stage, kind=kind: stage.report(
                     fraction, f"{kind} {k + 1}/{len(inputs)}: {message}"))
             if shots[k]:
-                reports[k] = painted_shot(frames[source], folder, params, settings, named, cancel, client)
+                report = painted_shot(frames[source], folder, params, settings, named, cancel, client, notice)
+                reports[k] = dict(report, batch=shot_done(found.get(k), report))
             else:
-                reports[k] = paint_file(source, folder, params, progress=named, cancel=cancel, normal_map=normal_map)
+                report = paint_file(source, folder, params, progress=named, cancel=cancel, normal_map=normal_map,
+                                    notice=notice)
+                reports[k] = dict(report, batch=PAINTED)
     return reports
+
+
+def batch_counts(reports) -> dict:
+    """{KEPT: n, WENT_ON: n, PAINTED: n} of ``paint_batch``'s reports."""
+    counts = {KEPT: 0, WENT_ON: 0, PAINTED: 0}
+    for report in reports:
+        counts[report["batch"]] += 1
+    return counts
+
+
+def shot_done(found: Optional[dict], report: dict) -> str:
+    """What painting a shot did (``KEPT``, ``WENT_ON`` or ``PAINTED``): ``found`` is the report its folder held
+    before (None for a new or unfinished folder), ``report`` the one painting it returned."""
+    if found is None:
+        return PAINTED
+    whole = len(found["per_frame"]) >= len(report["per_frame"]) and "repaired" not in report
+    return KEPT if whole else WENT_ON
+
+
+def batch_folders(inputs, shots, frames, output_root, params: Params, normal_map: bool,
+                  settings: Optional[SequenceSettings], fresh: bool):
+    """(folders, found) of ``paint_batch``: each input's folder under ``output_root``, and {index: the report its
+    folder holds} for the inputs whose folder holds their painting (a still's whole, a shot's whole or in part).
+
+    ``fresh``: the first free folders (``files.folders.painting_folders``), none found. Else
+    ``files.folders.resumed_folders``, ``still_report`` and ``shot_report`` judging which folder holds which
+    input's painting; ``frames``: {shot input: its checked ``Frames``}."""
+    from .files.folders import painting_folders, resumed_folders
+    from .files.shot_files import shot_name
+
+    names = [f"{shot_name(source)}.shot" if shot else source  # an extension for folder_stem to take off
+             for source, shot in zip(inputs, shots, strict=True)]
+    if fresh:
+        return painting_folders(str(output_root), names), {}
+    digests: dict = {}
+    runs: dict = {}
+
+    def owns(k: int, folder: str) -> Optional[dict]:
+        source = inputs[k]
+        if shots[k]:
+            if source not in runs:
+                from .sequence.shot import Run, shot_settings
+
+                shot = (settings or SequenceSettings()).validate()
+                runs[source] = Run(frames[source], shot_settings(frames[source], params, shot))
+            return shot_report(runs[source], folder)
+        if source not in digests:
+            from .files.export import input_sha256
+
+            digests[source] = input_sha256(source)
+        return still_report(folder, digests[source], params, normal_map)
+
+    chosen = resumed_folders(str(output_root), names, owns)
+    return [folder for folder, _ in chosen], {k: report for k, (_, report) in enumerate(chosen) if report}
+
+
+def still_report(folder, digest: str, params: Params, normal_map: bool) -> Optional[dict]:
+    """The report.json of the still painting in ``folder`` when it is whole and was painted by this version from
+    the input file of SHA-256 ``digest`` with ``params`` (seed included) and ``normal_map``; else None.
+
+    Whole: every file its report lists is there with the size listed (a commit writes them all or none, so a
+    file missing or of another size was changed since, and the folder is left as it is)."""
+    from .files.export import NORMAL_FILE
+    from .files.shot_files import is_shot_report, read_report
+    from .version import __version__
+
+    try:
+        report = read_report(folder)
+        if (report is None or is_shot_report(report) or report.get("input_sha256") != digest
+                or report.get("version") != __version__
+                or report.get("params") != json.loads(json.dumps(params.to_dict()))
+                or not isinstance(report.get("files"), dict) or (NORMAL_FILE in report["files"]) != normal_map):
+            return None
+        for name, entry in report["files"].items():
+            path = Path(folder) / name
+            if Path(name).name != name or not path.is_file() or path.stat().st_size != entry["bytes"]:
+                return None
+    except (OSError, ValueError, TypeError, KeyError):
+        return None
+    return report
+
+
+def shot_report(run, folder) -> Optional[dict]:
+    """The report.json of the shot in ``folder`` when ``run`` (a ``sequence.shot.Run``) goes on from it as
+    ``paint_sequence_files`` would: the same fingerprint (version, parameters, seed, fade, normal map, motion) and
+    every frame committed painted from the same frame file; else None."""
+    from .errors import OutputError
+    from .files.shot_files import is_shot_report, read_report
+
+    try:
+        report = read_report(folder)
+        if report is None or not is_shot_report(report):
+            return None
+        return run.resumed_report(Path(folder))
+    except (OSError, ValueError, TypeError, KeyError, OutputError):
+        return None
 
 
 SOURCE_COPY = "source"

@@ -266,7 +266,11 @@ def _add_batch_parser(sub) -> None:
         "Paint each INPUT into OUTROOT/<name>_001 (the first free counter, as the Blender panel names a "
         "painting's folder): a still as `paint` does, a shot (a folder of frames or a pattern with #) as "
         "`sequence` does, in this process one after another or on a Dask cluster, with the same bytes. "
-        "Every input is checked before any painting.",
+        "Every input is checked before any painting. Run again, it goes on where it stopped: a folder holding "
+        "an input's painting whole, from the same file with the same options, is kept; a shot left partly "
+        "painted goes on in its folder; a folder a stopped run left unfinished is painted into; a changed "
+        "input or option is painted into the next free folder. No folder holding another painting is written "
+        "into.",
         ("input", "INPUT", "still images (PNG, JPEG, TIFF, EXR, ...) and shots: folders of frames or patterns "
                            "with # for the frame number"),
         ("OUTROOT", "folder under which each painting gets its own folder (created if missing)"))
@@ -274,6 +278,8 @@ def _add_batch_parser(sub) -> None:
                    help="a shot's frames a stroke takes to fade in and out (default: %(default)s)")
     p.add_argument("--measures", action="store_true",
                    help="also measure each pair of a shot's frames' steadiness into its report.json")
+    p.add_argument("--fresh", action="store_true",
+                   help="paint every input anew into the next free folder, keeping nothing an earlier run painted")
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_method_options(p)
@@ -283,18 +289,22 @@ def _add_batch_parser(sub) -> None:
 
 
 def run_batch(args: argparse.Namespace, progress) -> None:
-    """The ``batch`` subcommand: one line per still or shot on stdout, "INPUT -> FOLDER", once all are painted."""
-    from .api import paint_batch
+    """The ``batch`` subcommand: one line per still or shot on stdout, "INPUT -> FOLDER", once all are painted, then
+    one notice on stderr (also under --quiet) of how many folders it kept, went on with and painted."""
+    from .api import KEPT, PAINTED, WENT_ON, batch_counts, paint_batch
     from .heap import reused_heap
 
     with reused_heap():
         reports = paint_batch(args.input, args.output, params_from_args(args), args.normal_map, progress=progress,
                               max_memory=max_memory(args), farm=farm_from_args(args),
-                              settings=SequenceSettings(args.fade_frames, args.normal_map, args.measures).validate())
+                              settings=SequenceSettings(args.fade_frames, args.normal_map, args.measures).validate(),
+                              fresh=args.fresh, notice=lambda text: _notice(progress, text))
     if progress is not None:
         progress.close()
     for source, report in zip(args.input, reports, strict=True):
-        print(f"{source} -> {report['output_dir']}")
+        print(f"{source} -> {report['output_dir']}", flush=True)
+    counts = batch_counts(reports)
+    _notice(progress, f"batch: kept {counts[KEPT]}, went on with {counts[WENT_ON]}, painted {counts[PAINTED]}.")
 
 
 def _widths(text: str) -> tuple:

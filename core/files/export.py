@@ -7,13 +7,13 @@ import json
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
 from .. import tuning
 from ..colour import srgb_to_linear
-from ..errors import InputError
+from ..errors import InputError, plain_cause
 from ..lighting import DEFAULT_RELIEF, PAPER_STRENGTH, encode_normals, normal_map, paper_lighting
 from ..params import Params
 from ..results import Painting
@@ -46,6 +46,16 @@ def file_digest(path: Path) -> dict:
     """{"bytes": size, "sha256": hex digest} of the file at ``path``."""
     data = Path(path).read_bytes()
     return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def input_sha256(path) -> str:
+    """The SHA-256 (hex) of the input file at ``path``, read in blocks; InputError naming it when it cannot be
+    read. A still's report.json records it ("input_sha256"), so a batch run again knows the painting of an input."""
+    try:
+        with open(path, "rb") as stream:
+            return hashlib.file_digest(stream, "sha256").hexdigest()
+    except OSError as exc:
+        raise InputError(f"The image {path} cannot be read: {plain_cause(exc)}.") from None
 
 
 def file_digests(folder: Path, names) -> dict:
@@ -139,7 +149,8 @@ def map_tasks(folder: Path, suffix: str, colour: np.ndarray, height: np.ndarray,
     ]
 
 
-def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False, pages: int = 1) -> dict:
+def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False, pages: int = 1,
+                   source_sha256: Optional[str] = None) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
     The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
@@ -154,8 +165,9 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     lit_paper.png the painting lit by the paper's Eq. 6-7 at strength PAPER_STRENGTH, 8-bit sRGB
     strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
     report.json  figures of the run, the input ("input"; "input_page" 0, the image painted, of its
-                 "input_pages" ``pages`` images), and the size and SHA-256 of every other file above
-                 ("files"), so a folder can be checked to hold one complete painting
+                 "input_pages" ``pages`` images; with ``source_sha256``, the input file's SHA-256 as
+                 "input_sha256"), and the size and SHA-256 of every other file above ("files"), so a
+                 folder can be checked to hold one complete painting
     normal.exr   only with ``normal_map``: RGB, tangent-space normals of the height field
                  (lighting.normal_map at relief DEFAULT_RELIEF px per height unit; OpenGL
                  convention X right, Y up, Z out), stored ENCODED as n * 0.5 + 0.5 in [0, 1]:
@@ -181,7 +193,10 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
         files[NORMAL_FILE] = file_digest(folder / NORMAL_FILE)
     report = dict(painting.statistics)
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
-    report.update({"input": str(source), "input_page": 0, "input_pages": int(pages),
-                   "params": painting.params.to_dict(), "height_range": [float(np.min(height)), float(np.max(height))], "files": files})
+    report.update({"input": str(source), "input_page": 0, "input_pages": int(pages)})
+    if source_sha256 is not None:
+        report["input_sha256"] = source_sha256
+    report.update({"params": painting.params.to_dict(), "height_range": [float(np.min(height)), float(np.max(height))],
+                   "files": files})
     writing.write_json(folder / REPORT_FILE, report)
     return report
