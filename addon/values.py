@@ -274,6 +274,19 @@ def is_inside(path, parent):
         return False
 
 
+def guarded_folders(package_folder, repositories, user_folder=None):
+    """The folders an output folder must stay out of, for the extension whose package is ``package_folder``.
+
+    Its package folder when that lies in one of Blender's extension ``repositories`` (their folders): Blender
+    installed it there and deletes it when the extension is updated or removed. A checkout loaded by path is not
+    such a folder, nor one linked into a repository, whose link alone Blender removes (symbolic links resolved,
+    as :func:`is_inside` does). Its ``user_folder`` (``bpy.utils.extension_path_user``) when given: Blender
+    deletes it with the extension.
+    """
+    guarded = [package_folder] if any(is_inside(package_folder, folder) for folder in repositories if folder) else []
+    return guarded + ([user_folder] if user_folder else [])
+
+
 PAINTED_MATERIAL_KEY = "paint_relief_painted_material"
 """The custom property naming a painted object's own material (Paint Object)."""
 

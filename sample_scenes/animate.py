@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare import extension_package  # noqa: E402 (the launcher's folder first)
+from extension import extension_package  # noqa: E402 (the launcher's folder first)
 
 if __name__ == "__main__":
     package = extension_package()

@@ -12,27 +12,11 @@ malformed command line.
 """
 
 import importlib
-import importlib.util
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-PACKAGE = "paint_relief"
-
-
-def extension_package():
-    """The installed and enabled Paint Relief package, else the repository loaded as ``paint_relief``."""
-    import bpy
-
-    if hasattr(bpy.types, "PAINT_RELIEF_OT_build_canvas"):
-        module = bpy.types.PAINT_RELIEF_OT_build_canvas.__module__  # "<package>.addon.scene.ops_scene"
-        return importlib.import_module(module.rpartition(".addon.")[0])
-    spec = importlib.util.spec_from_file_location(PACKAGE, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
-    package = importlib.util.module_from_spec(spec)
-    sys.modules[PACKAGE] = package
-    spec.loader.exec_module(package)
-    return package
-
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from extension import extension_package  # noqa: E402 (the launcher's folder first)
 
 if __name__ == "__main__":
     package = extension_package()

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import json
 import math
 import shutil
@@ -45,8 +44,9 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-PACKAGE = "paint_relief"
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from extension import extension_package  # noqa: E402 (the launcher's folder first)
+
 FILMS = ("relit", "paper", "original")
 SEAM_OFFSET = 2.0
 """Pixels: how far on either side of an edge's picture the colour step across it is sampled."""
@@ -56,20 +56,6 @@ SUN_ELEVATION = 25.0
 """Degrees: the raking sun's height above the horizon."""
 CAMERA_ELEVATION = 20.0
 """Degrees: the camera's height above the object's centre, seen from it."""
-
-
-def extension_package():
-    """The installed and enabled Paint Relief package, else the repository loaded as ``paint_relief``."""
-    import bpy
-
-    if hasattr(bpy.types, "PAINT_RELIEF_OT_paint_object"):
-        module = bpy.types.PAINT_RELIEF_OT_paint_object.__module__
-        return importlib.import_module(module.rpartition(".addon.")[0])
-    spec = importlib.util.spec_from_file_location(PACKAGE, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
-    package = importlib.util.module_from_spec(spec)
-    sys.modules[PACKAGE] = package
-    spec.loader.exec_module(package)
-    return package
 
 
 def arguments(argv):
@@ -357,7 +343,7 @@ def main(argv):
         import numpy as np
 
         obj = open_scene(args)
-        package = extension_package()
+        package = extension_package("PAINT_RELIEF_OT_paint_object")
         if not hasattr(bpy.types, "PAINT_RELIEF_OT_paint_object"):
             package.register()
         core = importlib.import_module(package.__name__ + ".core")

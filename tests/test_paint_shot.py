@@ -78,6 +78,22 @@ def test_is_inside(tmp_path):
     assert not values.is_inside(tmp_path / "ab", tmp_path / "a")
 
 
+def test_only_an_installed_extensions_folder_is_guarded(tmp_path):
+    """Blender deletes a package folder of its extension repositories on update or removal, not a checkout loaded
+    by path, nor a checkout linked into a repository (it removes the link)."""
+    repository, user = tmp_path / "extensions" / "user_default", tmp_path / "extensions" / ".user" / "x" / "pkg"
+    installed, checkout = repository / "paint_relief", tmp_path / "work" / "paint_relief"
+    for folder in (installed, checkout, tmp_path / "elsewhere"):
+        folder.mkdir(parents=True)
+    (tmp_path / "elsewhere" / "paint_relief").symlink_to(checkout, target_is_directory=True)
+    repositories = [str(repository), "", str(tmp_path / "elsewhere")]
+    assert values.guarded_folders(str(installed), repositories, str(user)) == [str(installed), str(user)]
+    assert values.guarded_folders(str(installed), [str(tmp_path / "extensions")]) == [str(installed)]
+    assert values.guarded_folders(str(checkout), repositories) == []
+    assert values.guarded_folders(str(tmp_path / "elsewhere" / "paint_relief"), repositories) == []
+    assert values.guarded_folders(str(checkout), [], str(user)) == [str(user)]
+
+
 # --- inside Blender ---------------------------------------------------------------
 
 @pytest.fixture(scope="module")
@@ -207,6 +223,16 @@ def test_a_bad_source_or_folder_is_one_sentence_and_writes_nothing(results):
         found = step[case]
         assert found["result"] is None and word in one_sentence(found["error"]), (case, found["error"])
         assert not found["output_exists"], case
+
+
+@pytest.mark.blender
+def test_only_an_installed_extensions_folder_is_refused(results):
+    """A checkout loaded by path (as `make demo` loads it) may write into its own out/; the same folder is refused
+    while one of Blender's extension repositories holds the checkout, which Blender would delete on removal."""
+    step = _step(results, "extension_folder_guard")
+    assert step["checkout"] == "" and step["checkout_again"] == "", step
+    assert "inside the extension's folder" in one_sentence(step["installed"]), step
+    assert any(folder.endswith("user_default") for folder in step["repositories"]), step["repositories"]
 
 
 @pytest.mark.blender

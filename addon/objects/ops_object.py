@@ -18,7 +18,7 @@ import bpy
 from bpy.types import Operator
 
 from .. import dependencies, values
-from ..modal_job import ModalJob, Outcome, Worker
+from ..modal_job import Outcome, Worker
 from ..painting import jobs
 from ..painting.ops_paint import params_from_settings
 from ..scene.maps import CanvasError
@@ -112,7 +112,7 @@ def mesh_in_object_mode(context):
     return obj is not None and obj.type == "MESH" and context.mode == "OBJECT"
 
 
-class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
+class PAINT_RELIEF_OT_paint_object(jobs.SceneJob, Operator):
     """Paint the active mesh's texture in its UV space and give the object the painting and its relief"""
 
     bl_idname = "paint_relief.paint_object"
@@ -155,13 +155,7 @@ class PAINT_RELIEF_OT_paint_object(ModalJob, Operator):
         finally:
             self._end(context)
 
-    def cancel(self, context):
-        self._worker.stop()
-        self._end(context)
-
-    def _end(self, context):
-        jobs.end(self._scene)
-        self.end_modal(context)
+    def clean(self):
         self._job.clean()
 
 

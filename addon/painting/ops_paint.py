@@ -15,7 +15,7 @@ import bpy
 from bpy.types import Operator
 
 from .. import dependencies, values
-from ..modal_job import ModalJob, Outcome, Worker
+from ..modal_job import Outcome, Worker
 from ..settings import properties
 from . import jobs
 
@@ -107,7 +107,7 @@ def _finish(operator, context, report):
     operator.report({"INFO"}, "Painted {} strokes into {}".format(report.get("strokes", "the"), report["output_dir"]))
 
 
-class PAINT_RELIEF_OT_paint(ModalJob, Operator):
+class PAINT_RELIEF_OT_paint(jobs.SceneJob, Operator):
     """Paint the photograph stroke by stroke into colour, height and opacity maps"""
 
     bl_idname = "paint_relief.paint"
@@ -161,15 +161,6 @@ class PAINT_RELIEF_OT_paint(ModalJob, Operator):
         self._end(context)
         worker = self._worker
         return self.report_outcome(worker, lambda report: _finish(self, context, report), worker.cancel.is_set())
-
-    def cancel(self, context):
-        """Blender ends the operator (e.g. the file closes): stop the worker and clean up."""
-        self._worker.stop()
-        self._end(context)
-
-    def _end(self, context):
-        jobs.end(self._scene)
-        self.end_modal(context)
 
 
 classes = (PAINT_RELIEF_OT_paint,)

@@ -94,18 +94,30 @@ def animation_output_dir(context, key, name):
     return values.next_painting_folder(paintings_parent(context), name)
 
 
+def extension_repositories():
+    """The folders of Blender's extension repositories (Preferences > Get Extensions > Repositories) and the user's
+    extensions folder that holds them by default: Blender installs packages there and deletes them on update or
+    removal."""
+    folders = [repo.directory for repo in bpy.context.preferences.extensions.repos]
+    try:
+        folders.append(bpy.utils.user_resource("EXTENSIONS"))
+    except (ValueError, TypeError):
+        pass  # a Blender that names no extensions folder
+    return [folder for folder in folders if folder]
+
+
 def check_output_folder(folder):
-    """Raise ValueError (one sentence) when ``folder`` lies inside the extension's own folder or its user
-    folder, which Blender replaces or deletes when the extension is updated or uninstalled."""
+    """Raise ValueError (one sentence) when ``folder`` lies inside the installed extension's own folder or its user
+    folder, which Blender replaces or deletes when the extension is updated or uninstalled
+    (:func:`values.guarded_folders`: a checkout loaded by path guards neither)."""
     from .preferences import EXTENSION_PACKAGE
 
     package_folder = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    guarded = [package_folder]
     try:
-        guarded.append(bpy.utils.extension_path_user(EXTENSION_PACKAGE, create=False))
+        user_folder = bpy.utils.extension_path_user(EXTENSION_PACKAGE, create=False)
     except (ValueError, RuntimeError, AttributeError):
-        pass  # not installed as an extension (run from a checkout): only its own folder is guarded
-    for parent in guarded:
+        user_folder = None  # not loaded as an extension (a checkout loaded by path): it has no user folder
+    for parent in values.guarded_folders(package_folder, extension_repositories(), user_folder):
         if values.is_inside(folder, parent):
             raise ValueError("The output folder {} is inside the extension's folder {}, which Blender deletes when "
                              "the extension is updated or removed: choose another folder.".format(folder, parent))

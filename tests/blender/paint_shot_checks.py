@@ -452,9 +452,13 @@ def main(work):
             "pattern_matching_nothing": ("PATTERN", "animation_pattern", os.path.join(work, "frames", "x_####.png")),
             "no_camera": ("SCENE", None, None),
         }
-        # An output folder inside the extension's own folder (here the checkout the package links to).
+        # An output folder inside an installed extension's own folder: here the checkout the package links to,
+        # installed as far as Blender knows by an extension repository whose folder holds it (removed below).
         package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(ops_paint_shot.__file__))))
         inside = os.path.join(package, "painted_inside_the_extension")
+        repositories = bpy.context.preferences.extensions.repos
+        holding = repositories.new(name="Holding The Checkout", module="holding_the_checkout",
+                                   custom_directory=os.path.dirname(os.path.realpath(package)))
         cases["output_inside_the_extension"] = ("FOLDER", "animation_folder", os.path.join(work, "frames"))
         # Output folders holding something else (their report.json says what): a still painting, the scene
         # painted to the end, the frames of another footage stopped halfway.
@@ -485,6 +489,33 @@ def main(work):
         result, error = run_op(ops.paint)
         found["still_inside_the_extension"] = {"result": result, "error": error, "output_exists": os.path.exists(inside)}
         shutil.rmtree(inside, ignore_errors=True)
+        repositories.remove(holding)
+        return found
+
+    @timed
+    def extension_folder_guard():
+        """The output folder rule as the operators apply it (settings/properties.check_output_folder): a folder in
+        the checkout the package links to is refused while an extension repository holds the checkout, and free
+        (its out/, as `make demo` writes) when none does, the checkout loaded by path."""
+        from paint_relief.addon.settings import properties
+
+        package = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(ops_paint_shot.__file__))))
+        demo = os.path.join(package, "out", "object", "maps")
+
+        def error():
+            try:
+                properties.check_output_folder(demo)
+            except ValueError as refused:
+                return str(refused)
+            return ""
+
+        repositories = bpy.context.preferences.extensions.repos
+        found = {"repositories": properties.extension_repositories(), "checkout": error()}
+        holding = repositories.new(name="Holding The Checkout", module="holding_the_checkout",
+                                   custom_directory=os.path.dirname(os.path.realpath(package)))
+        found["installed"] = error()
+        repositories.remove(holding)
+        found["checkout_again"] = error()
         return found
 
     @timed

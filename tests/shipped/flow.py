@@ -119,6 +119,17 @@ def main(zip_path, work):
                 "files": sorted(os.listdir(folder)) if folder and os.path.isdir(folder) else []}
 
     @step
+    def output_inside_the_installed_extension():
+        """Paint refuses an output folder inside the installed package's folder, which Blender deletes on update or
+        removal (the checkout's own out/ is free: tests/test_paint_shot.py)."""
+        package = os.path.dirname(sys.modules[MODULE].__file__)
+        inside = os.path.join(package, "out", "painting")
+        settings.output_dir = inside
+        result, error = run_op(ops.paint)
+        settings.output_dir = os.path.join(work, "painted")
+        return {"result": result, "error": error, "package": package, "written": os.path.exists(inside)}
+
+    @step
     def stage():
         results = {name: run_op(getattr(ops, name)) for name in ("build_canvas", "add_lights", "add_camera")}
         canvas = [o for o in scene.objects if o.get("paint_relief_role") == "canvas"]

@@ -48,6 +48,12 @@ def test_panel_paint_leaves_the_process_as_it_found_it(flow):
         assert (after["malloc"]["threshold"] or 2 ** 27) >= (before["malloc"]["threshold"] or 2 ** 27)
 
 
+def test_an_output_folder_inside_the_installed_extension_is_refused(flow):
+    found = _step(flow, "output_inside_the_installed_extension")
+    assert found["result"] is None and "inside the extension's folder" in found["error"], found
+    assert not found["written"], found
+
+
 def test_canvas_lights_camera(flow):
     found = _step(flow, "stage")
     assert all(result == ["FINISHED"] for result, _ in found["results"].values()), found["results"]
