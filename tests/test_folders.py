@@ -107,3 +107,41 @@ def test_naming_folders_loads_none_of_the_painters_libraries():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO, timeout=60)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "[]"
+
+
+def test_resumed_folders_give_each_input_its_own_folder_else_an_unfinished_one_else_the_next_free(tmp_path):
+    """A batch run again: each input gets the first folder ``owns`` says is its own (asked only of folders that hold
+    something, after settling), else the first a stopped run left empty, else the next free counter; two inputs
+    never get one folder, and a folder another run holds is passed over."""
+    from core.files import folderlock
+    from core.files.staging import STAGING_PREFIX
+
+    for name, mark in (("photo_001", "other"), ("photo_002", "a"), ("photo_004", "a"), ("photo_005", "b")):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "mark").write_text(mark)
+    (tmp_path / "photo_003" / f"{STAGING_PREFIX}1-ab").mkdir(parents=True)    # a run stopped before its commit
+    (tmp_path / "photo_003" / folderlock.LOCK_NAME).write_text("99999999")
+    (tmp_path / "photo_006").mkdir()                                          # made, never written
+    (tmp_path / "photo_007").write_text("a file takes the name")
+    (tmp_path / "photo_1").mkdir()                                           # not a name the rule gives
+    (tmp_path / "photo_1" / "mark").write_text("a")
+    asked = []
+
+    def owns(k, folder):
+        asked.append((k, os.path.basename(folder)))
+        return "yes" if (Path(folder) / "mark").read_text() == "abcb"[k] else None
+
+    inputs = ["a/photo.png", "b/photo.png", "c/photo.png", "x/photo.jpg"]
+    got = folders.resumed_folders(tmp_path, inputs, owns)
+    assert [(os.path.basename(folder), found) for folder, found in got] == [
+        ("photo_002", "yes"), ("photo_005", "yes"), ("photo_003", None), ("photo_006", None)]
+    assert os.listdir(tmp_path / "photo_003") == []
+    assert all(name not in ("photo_003", "photo_006", "photo_007", "photo_1") for _, name in asked)
+    got = folders.resumed_folders(tmp_path, ["a/photo.png"] * 3, lambda k, folder: (Path(folder) / "mark").read_text()
+                                  == "a")
+    assert [os.path.basename(folder) for folder, _ in got] == ["photo_002", "photo_004", "photo_003"]
+
+    with folderlock.acquire(tmp_path / "photo_006"):
+        got = folders.resumed_folders(tmp_path, ["c/photo.png", "c/photo.png"], lambda k, folder: None)
+    assert [os.path.basename(folder) for folder, _ in got] == ["photo_003", "photo_008"]
+    assert folders.next_painting_folder(tmp_path, "photo.png") == str(tmp_path / "photo_008")
