@@ -571,12 +571,20 @@ def _interrupted_message(exc: "signals.Interrupted", args: argparse.Namespace) -
                 f"after the last of them.")
     if args.command == "batch" and any(is_shot(source) for source in args.input):
         return (f"Stopped by {exc.name}; the stills and frames painted stay in {args.output}, each complete, and "
-                f"`core sequence SHOT -o FOLDER` goes on with a shot after the last of its frames.")
+                f"{_goes_on(args)}.")
     if args.command == "batch":
-        return f"Stopped by {exc.name}; the stills painted stay in {args.output}, each folder complete."
+        return (f"Stopped by {exc.name}; the stills painted stay in {args.output}, each folder complete, and "
+                f"{_goes_on(args)}.")
     if exc.committed:
         return f"Stopped by {exc.name} after every output was written to {exc.committed}."
     return f"Stopped by {exc.name}; {_folder_phrase(args)} was left as it was."
+
+
+def _goes_on(args: argparse.Namespace) -> str:
+    """What goes on with a batch stopped midway: the same command, or without --fresh when it had it."""
+    if args.fresh:
+        return "the same command without --fresh goes on where it stopped"
+    return "the same command goes on where it stopped"
 
 
 def _fail(console, message: str, status: int) -> int:
