@@ -19,8 +19,10 @@ CANVAS_COLOUR = (0.93, 0.90, 0.84)
 METHODS = ("huang11", "hertzmann98")
 METHOD_TITLES = {"huang11": "Huang 2011", "hertzmann98": "Hertzmann 1998"}
 """Each method's name as the Blender panel shows it."""
-SHOT_METHOD = "huang11"
-"""The method a shot is painted with: the paper's; its strokes are the ones carried from frame to frame."""
+PLACED_METHODS = ("huang11",)
+"""The methods whose strokes can be laid only where allowed, on a canvas painted already: a shot's frames (its
+births) and a texture's islands are painted with these (``methods.registry.STROKE_PAINTERS``), the first of them
+the paper's; the others paint still images only."""
 STYLE_NAMES = ("impressionist", "expressionist", "colorist_wash", "pointillist")
 LAYOUTS = ("paper", "hertzmann98")
 RENDERERS = ("bristles", "lines")
@@ -236,18 +238,29 @@ class Params:
              f"The seed must be a whole number from 0 to 2^63 - 1, got {_short(self.seed)}.")
         return self
 
-    def validate_shot(self) -> "Params":
-        """``validate()``, and ParameterError (one sentence) unless these parameters can paint a shot: the paper's
-        method (``SHOT_METHOD``) and layout, whose strokes a shot carries from frame to frame; return self."""
+    def validate_placed(self, what: str) -> "Params":
+        """``validate()``, and ParameterError (one sentence) unless these parameters can paint ``what`` (a plural,
+        capitalised as the sentence begins: "Shots", "Objects"), whose strokes are laid only where allowed: a method
+        of ``PLACED_METHODS`` and the paper's layout; return self."""
         self.validate()
-        if self.method != SHOT_METHOD:
-            raise ParameterError(f"Shots are painted with the paper's method ({METHOD_TITLES[SHOT_METHOD]}, "
-                                 f"{SHOT_METHOD}); {METHOD_TITLES[self.method]} ({self.method}) paints still images "
-                                 f"only.")
+        if self.method not in PLACED_METHODS:
+            method = PLACED_METHODS[0]
+            raise ParameterError(f"{what} are painted with the paper's method ({METHOD_TITLES[method]}, {method}); "
+                                 f"{METHOD_TITLES[self.method]} ({self.method}) paints still images only.")
         if self.layout != "paper":
-            raise ParameterError(f"Shots are painted with the paper's layout; the layout {self.layout} paints "
+            raise ParameterError(f"{what} are painted with the paper's layout; the layout {self.layout} paints "
                                  f"still images only.")
         return self
+
+    def validate_shot(self) -> "Params":
+        """``validate_placed("Shots")``: a shot's births are laid only where its carried strokes leave the canvas
+        bare or wrong; return self."""
+        return self.validate_placed("Shots")
+
+    def validate_object(self) -> "Params":
+        """``validate_placed("Objects")``: a texture's strokes are laid only on each island's texels; return
+        self."""
+        return self.validate_placed("Objects")
 
 
 def _short(value) -> str:

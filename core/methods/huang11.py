@@ -1,18 +1,20 @@
-"""The paper's painter, Huang, Fu and Li 2011: ``paint(image, params) -> Painting`` (ALGORITHM §3, §5, §6)."""
+"""The paper's painter, Huang, Fu and Li 2011: ``paint(image, params) -> Painting``, and its strokes laid on any
+canvas only where allowed, ``paint_strokes`` (ALGORITHM §3, §5, §6)."""
 
 from __future__ import annotations
 
 import dataclasses
 import time
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
 from ..analysis.run import analyze, check_image
+from ..errors import ParameterError
 from ..params import Params
 from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Analysis, Painting
-from ..strokes.brush import brush_tip, load_brush, tip_cache
+from ..strokes.brush import BrushTip, brush_tip, load_brush, tip_cache
 from ..strokes.canvas import Canvas
 from ..strokes.details import detail_anchors, size_map
 from ..strokes.layout import (
@@ -33,36 +35,26 @@ from .styles import get_style
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
           mask: Optional[np.ndarray] = None, record_strokes: bool = False) -> Painting:
-    """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke.
+    """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke: a still's recipe, declared here once.
 
-    progress(fraction, message) is called now and then; cancel() is polled
-    between rounds and raises Cancelled when it returns True. record_strokes:
-    also hand back the laid strokes as a ``StrokeList`` (``Painting.stroke_list``),
-    which ``lay_strokes`` lays again to the same bytes.
+    The analysis (``analyze``, with the optional (h, w) [0, 1] importance
+    ``mask``), a blank canvas, the strokes laid everywhere on it
+    (``paint_strokes``: the layers, then the detail pass) and the
+    statistics. progress(fraction, message) is called now and then; cancel()
+    is polled between rounds and raises Cancelled when it returns True.
+    record_strokes: also hand back the laid strokes as a ``StrokeList``
+    (``Painting.stroke_list``), which ``lay_strokes`` lays again to the same
+    bytes.
     """
     params.validate()
     image = check_image(image)
     stage = Stage(progress, cancel)
-    brush = load_brush(params.brush)
-    analysis_stage = stage.sub(0.0, 0.15)
-    analysis = analyze(image, params, mask=mask, progress=analysis_stage.report if progress else None,
+    analysis = analyze(image, params, mask=mask, progress=stage.sub(0.0, 0.15).report if progress else None,
                        cancel=cancel)
     t0 = time.perf_counter()
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
-    tips = tip_cache(brush, analysis.sizes, params.transparency)
-    sources = colour_sources(analysis.reference, analysis.sizes, params)
     recorder = StrokeRecorder() if record_strokes else None
-    layers_stage = stage.sub(0.15, 0.95 if params.detail_pass else 1.0)
-    if params.layout == "hertzmann98":
-        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage,
-                                                      recorder)
-    else:
-        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage, recorder)
-    if params.detail_pass:
-        details = paint_details(canvas, image, analysis, sources, params, len(per_layer),
-                                stage.sub(0.95, 1.0), recorder)
-        strokes += details
-        per_layer.append(len(details))
+    strokes, per_layer = paint_strokes(canvas, image, analysis, params, stage.sub(0.15, 1.0), recorder)
     seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
     statistics = painting_statistics(image, canvas.colour, strokes, per_layer, len(analysis.grids),
                                      per_layer[-1] if params.detail_pass else 0, seconds, params, params.method,
@@ -72,6 +64,49 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     return Painting(canvas.colour, canvas.height, canvas.opacity, canvas.coverage, analysis.orientation,
                     strokes, analysis, params, statistics,
                     None if recorder is None else recorder.stroke_list())
+
+
+LAYERS_SHARE = 0.9
+"""The share of ``paint_strokes``'s progress its layers take when a detail pass follows them."""
+
+
+def paint_strokes(canvas: Canvas, image: np.ndarray, analysis: Analysis, params: Params, stage: Stage,
+                  recorder: Optional[StrokeRecorder] = None, eligible: Optional[np.ndarray] = None,
+                  sources: Optional[Dict[int, ColourSources]] = None,
+                  tips: Optional[Dict[int, BrushTip]] = None) -> Tuple[List[Stroke], List[int]]:
+    """A still's strokes laid on ``canvas`` (H, W): every layer in ``params.layout``, then the detail pass (with
+    ``params.detail_pass``); returns (strokes in laying order, strokes per layer, the detail pass's last).
+
+    The registry's stroke painter (``registry.STROKE_PAINTERS``): a still
+    lays them on a blank canvas, a shot's frame where its carried strokes
+    leave the canvas bare or wrong, a texture's island on the island's
+    texels. ``image`` (H, W, 3) sRGB [0, 1] is the picture and ``analysis``
+    its analysis; ``eligible`` (optional (H, W) bool): strokes are anchored
+    only where it is True (the paper's layout only). ``sources`` ({width px:
+    ColourSources} of the analysis's reference) and ``tips`` ({width px:
+    BrushTip} of ``params.brush``) are made here when None. ``recorder``
+    (optional) keeps the strokes laid. ``stage`` hears the progress and is
+    polled for cancel between rounds.
+    """
+    if eligible is not None and params.layout != "paper":
+        raise ParameterError(f"The layout {params.layout} lays strokes over the whole canvas; only the paper's "
+                             f"layout lays them where allowed.")
+    if sources is None:
+        sources = colour_sources(analysis.reference, analysis.sizes, params)
+    if tips is None:
+        tips = tip_cache(load_brush(params.brush), analysis.sizes, params.transparency)
+    layers_stage = stage.sub(0.0, LAYERS_SHARE if params.detail_pass else 1.0)
+    if params.layout == "hertzmann98":
+        strokes, per_layer = paint_layers_hertzmann98(canvas, analysis, tips, sources, params, layers_stage,
+                                                      recorder)
+    else:
+        strokes, per_layer = paint_layers(canvas, analysis, tips, sources, params, layers_stage, recorder, eligible)
+    if params.detail_pass:
+        details = paint_details(canvas, image, analysis, sources, params, len(per_layer),
+                                stage.sub(LAYERS_SHARE, 1.0), recorder, eligible)
+        strokes += details
+        per_layer.append(len(details))
+    return strokes, per_layer
 
 
 def paint_details(canvas: Canvas, image: np.ndarray, analysis: Analysis,

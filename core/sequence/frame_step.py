@@ -24,7 +24,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..analysis.run import analyze
-from ..methods.huang11 import paint, paint_details, paint_layers
+from ..methods.registry import paint_recorded, stroke_painter
 from ..motion.warp import bilinear, pixel_positions
 from ..params import Params, scaled_sizes
 from ..progress import Stage
@@ -107,7 +107,7 @@ def analyse_frame(image: np.ndarray, params: Params, cancel=None) -> FrameAnalys
 def first_frame(image: np.ndarray, params: Params, fade_frames: int, stage: Stage) -> PaintedFrame:
     """Frame 0: the still painting of (H, W, 3) sRGB [0, 1] ``image``, its strokes at full contact."""
     clock = time.perf_counter()
-    painting = paint(image, params, stage.progress, stage.cancel, record_strokes=True)
+    painting = paint_recorded(image, params, "Shots", stage.progress, stage.cancel)
     strokes = painting.statistics["seconds"]["strokes"]
     living = LivingStrokes.born(painting.stroke_list, 0, 0, fade_frames, fade_frames)
     canvas = Canvas(painting.colour, painting.coverage, painting.height, painting.opacity)
@@ -193,8 +193,9 @@ def joined_rows(parts) -> Canvas:
 def born_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: FrameMotion, params: Params,
                stage: Stage, analysed: FrameAnalysis, carried: CarriedFrame, judging_rows) -> PaintedFrame:
     """Frame ``index`` from its ``carried`` strokes and the judging canvas they lay (``judging_rows``: its
-    ``CanvasRows``): where the carried painting leaves the frame bare or wrong (``birth_places``) the still
-    painter's layers and detail pass are born, and the carried strokes anchored there start to fade out."""
+    ``CanvasRows``): where the carried painting leaves the frame bare or wrong (``birth_places``) the still's
+    strokes are born (the method's stroke painter, ``methods.registry.stroke_painter``: its layers and detail pass),
+    and the carried strokes anchored there start to fade out."""
     clock = time.perf_counter()
     analysis, sources = analysed.analysis, analysed.sources
     shape = image.shape[:2]
@@ -209,11 +210,8 @@ def born_frame(previous: PaintedFrame, index: int, image: np.ndarray, motion: Fr
     living, gone = carried.living.fading_out(stale)
     recorder = StrokeRecorder()
     births = dataclasses.replace(params, seed=frame_seed(params.seed, index))
-    paint_layers(judging, analysis, {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes}, sources, births,
-                 stage.sub(0.0, 0.9), recorder, eligible)
-    if params.detail_pass:
-        paint_details(judging, image, analysis, sources, births, params.layers, stage.sub(0.9, 1.0), recorder,
-                      eligible)
+    stroke_painter(births, "Shots")(judging, image, analysis, births, stage, recorder, eligible, sources,
+                                    {s: tips[PAINTING_BRUSH, s] for s in analysis.sizes})
     born = LivingStrokes.born(recorder.stroke_list(), previous.next_ident, index, 1, living.fade_frames)
     frame = LivingStrokes.joined([living, born])
     unsettled = carried.living.dying | (carried.living.strokes.contact != 1)

@@ -27,14 +27,13 @@ from scipy import ndimage
 from ..analysis.run import analyze, check_image
 from ..errors import InputError
 from ..measures import psnr
-from ..methods.huang11 import paint_details, paint_layers
+from ..methods.registry import stroke_painter
 from ..params import Params, scaled_sizes
 from ..progress import CancelFn, ProgressFn, Stage
 from ..resample import resize_area
 from ..results import Painting
-from ..strokes.brush import load_brush, tip_cache
 from ..strokes.canvas import Canvas
-from ..strokes.stroke import Stroke, colour_sources
+from ..strokes.stroke import Stroke
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
@@ -134,7 +133,8 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
                  smoothing: float, params: Params, stage: Stage) -> IslandPainting:
     """Island ``island`` of the (N, N) ``islands`` map painted from (N, N, 3) sRGB [0, 1] ``texture`` with
     strokes of ``sizes`` texels and the reference's bilateral filter ``smoothing`` texels wide (module
-    docstring)."""
+    docstring): a still's strokes anchored on the island's texels alone, by the method's stroke painter
+    (``methods.registry.stroke_painter``; ParameterError in one sentence for a method that paints stills only)."""
     rows, cols = island_box(islands == island, max(sizes) + int(np.ceil(bleed_texels(islands.shape[0]))))
     mask = islands[rows, cols] == island
     image = extended(texture[rows, cols], mask)
@@ -143,15 +143,7 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
                               bilateral_sigma_spatial=smoothing / float(np.hypot(h, w)))
     analysis = analyze(image, own, cancel=stage.cancel)
     canvas = Canvas.blank((h, w), params.canvas_colour)
-    tips = tip_cache(load_brush(params.brush), analysis.sizes, params.transparency)
-    sources = colour_sources(analysis.reference, analysis.sizes, own)
-    strokes, per_layer = paint_layers(canvas, analysis, tips, sources, own,
-                                      stage.sub(0.0, 0.9 if params.detail_pass else 1.0), None, mask)
-    if params.detail_pass:
-        details = paint_details(canvas, image, analysis, sources, own, len(per_layer), stage.sub(0.9, 1.0), None,
-                                mask)
-        strokes += details
-        per_layer.append(len(details))
+    strokes, per_layer = stroke_painter(own, "Objects")(canvas, image, analysis, own, stage, eligible=mask)
     shift = np.array([cols.start, rows.start], np.float32)
     placed = [Stroke(s.layer, (s.anchor[0] + cols.start, s.anchor[1] + rows.start), s.size, s.path + shift,
                      s.colour) for s in strokes]
@@ -180,8 +172,9 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
     """Paint the (N, N, 3) sRGB [0, 1] ``texture`` of a mesh laid out as ``layout`` says, island by island, with
     strokes ``stroke_mm`` wide on the surface (``default_stroke_mm`` when None). The Painting's maps are the
     texture's (N, N); its ``analysis`` is None (each island has its own); its statistics add "islands", each
-    island's figures (``island_figures``), and "stroke_mm"."""
-    params.validate()
+    island's figures (``island_figures``), and "stroke_mm". ParameterError in one sentence, before any work, for a
+    method or layout that paints stills only (``Params.validate_object``)."""
+    params.validate_object()
     texture = check_image(texture)
     check_layout(texture, layout)
     clock = time.perf_counter()
@@ -219,7 +212,8 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
 def texture_statistics(texture: np.ndarray, colour: np.ndarray, layout: SurfaceLayout,
                        painted: Dict[int, IslandPainting], stroke_mm: Sequence[float], params: Params,
                        seconds: float) -> dict:
-    """The report's figures of a painted texture: strokes, the PSNR over the islands' texels, and each island's
+    """The report's figures of a painted texture: the method, layout and renderer it was painted with, strokes, the
+    PSNR over the islands' texels, and each island's
     figures (``island_figures``); with the layout's edges, the steps across seams and inner edges
     (``seams.seam_figures``)."""
     surface = layout.islands != NO_ISLAND
@@ -227,7 +221,8 @@ def texture_statistics(texture: np.ndarray, colour: np.ndarray, layout: SurfaceL
     per_layer = [sum(part.per_layer[k] for part in painted.values() if k < len(part.per_layer))
                  for k in range(layers)]
     seams = {} if layout.edges is None else {"seam_steps": seam_figures(layout.edges, texture, colour)}
-    return {"strokes": int(sum(per_layer)), "strokes_per_layer": per_layer,
+    return {"method": params.method, "layout": params.layout, "renderer": params.renderer,
+            "strokes": int(sum(per_layer)), "strokes_per_layer": per_layer,
             "psnr_db": round(psnr(colour[surface], texture[surface]), 3),
             "seconds": {"painting": round(seconds, 4)}, "width": int(texture.shape[1]),
             "height": int(texture.shape[0]), "seed": params.seed, "stroke_mm": [round(s, 3) for s in stroke_mm],
