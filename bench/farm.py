@@ -76,14 +76,14 @@ from typing import Dict, Mapping, Sequence
 from common import file_digests, run_child
 from core import tuning
 from core.cli import build_parser, params_from_args
-from core.farm.frame_file import cluster_arguments
+from core.farm.frame_file import READ, STROKES, cluster_arguments, input_source
 from core.farm.scheduling import MAX_BANDS
 from core.farm.sequence import lived_strokes
 from core.files.frames import find_frames
 from core.files.staging import output_folder
 from core.heap import reused_heap
 from core.params import SequenceSettings
-from core.sequence.pieces import PieceKey, PieceKind, judging_bands
+from core.sequence.pieces import PieceKey, PieceKind, judging_bands, piece_needs
 from core.sequence.shot import Run, shot_settings
 
 FOOTAGE = Path("/work/footage")
@@ -101,17 +101,29 @@ PROJECTED_FRAMES = 250
 COMPARED_SUFFIXES = (".png", ".exr", ".lives")
 SPEEDUP_WORKERS = (1, 2, 0)     # --workers 1, --workers 2, and 0: no --workers (one process, no Dask)
 
-# The inputs each piece of frame t > 0 is sent (piece, result it needs), and the results sent to the client: the
-# volume per frame when every one crosses the network. Frame t-1's strokes ("lived": its BIRTH result without the
-# canvas its births were laid on) come to the client and travel with frame t's life; frame t-1's frame shown goes
-# to frame t's writing.
-SENT = (("carry", "lived"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"), ("judge", "carry"),
-        ("birth", "lived"), ("birth", "prepare"), ("birth", "motion"), ("birth", "carry"), ("birth", "judge"),
-        ("client", "lived"), ("shown", "birth"), ("write", "birth"), ("write", "shown"), ("write", "shown"),
-        ("write", "motion"), ("client", "write"))
-CHAIN_SENT = (("carry", "lived"), ("carry", "prepare"), ("carry", "motion"), ("client", "carry"),
-              ("judge", "carry"), ("birth", "lived"), ("birth", "prepare"), ("birth", "motion"),
-              ("birth", "carry"), ("birth", "judge"), ("client", "lived"))
+CLIENT_RECEIVES = ("carry", "lived", "write")    # the driver cuts the bands, gathers the strokes, commits the maps
+CHAIN_KINDS = (PieceKind.CARRY, PieceKind.JUDGE, PieceKind.BIRTH)
+
+
+def piece_inputs(kinds=tuple(PieceKind)) -> tuple:
+    """(piece, result it is sent) for each input of the pieces of ``kinds`` of a frame t > 0 with one judging band,
+    the shot measured, from the pieces' declaration (``pieces.piece_needs``) and where the farm takes each input
+    (``frame_file.input_source``): a frame read again is not sent; frame t-1's strokes ("lived": its BIRTH result
+    without the canvas its births were laid on) come from the client."""
+    pairs = []
+    for kind in kinds:
+        key = PieceKey(kind, 1)
+        for need in piece_needs(key, 1, measures=True):
+            source = input_source(key, need)
+            if source != READ:
+                pairs.append((kind.value, "lived" if source == STROKES else need.kind.value))
+    return tuple(pairs)
+
+
+# The inputs each piece of frame t > 0 is sent and the results sent to the client: the volume per frame when every
+# one crosses the network; CHAIN_SENT, those of the life chain.
+SENT = piece_inputs() + tuple(("client", result) for result in CLIENT_RECEIVES)
+CHAIN_SENT = piece_inputs(CHAIN_KINDS) + (("client", "carry"), ("client", "lived"))
 
 
 @contextlib.contextmanager

@@ -6,7 +6,22 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
-from farm import CHAIN_SENT, output_digests, projection, sent_bytes, sequential_share, settling  # noqa: E402
+from farm import (  # noqa: E402
+    CHAIN_KINDS,
+    CHAIN_SENT,
+    SENT,
+    output_digests,
+    projection,
+    sent_bytes,
+    sequential_share,
+    settling,
+)
+
+from core.farm.frame_file import cluster_arguments  # noqa: E402
+from core.motion.source import OPTICAL_FLOW_MOTION  # noqa: E402
+from core.params import Params  # noqa: E402
+from core.sequence.pieces import PieceKey, PieceKind, ShotPieces  # noqa: E402
+from core.sequence.shot_settings import ShotSettings  # noqa: E402
 
 FIRST = {"prepare": 0.5, "carry": 10.0, "shown": 3.0, "write": 1.0, "commit": 0.2}
 LATER = {"prepare": 2.0, "motion": 2.0, "carry": 0.5, "judge": 4.0, "birth": 1.5, "shown": 3.0, "write": 2.0,
@@ -30,6 +45,27 @@ def test_sent_bytes_count_each_transfer_of_a_frame():
     # frame's writing and the next's
     assert sent_bytes(SIZES) == pytest.approx(2 * 200 + 3 * 40 + 3 * 20 + 30 + 3 * 10 + 2 * 50 + 2 * 60 + 1)
     assert sent_bytes(SIZES, CHAIN_SENT) == pytest.approx(2 * 200 + 2 * 40 + 3 * 20 + 30 + 3 * 10)
+
+
+def test_the_transfers_counted_are_the_inputs_the_farm_hands_each_piece():
+    """SENT and CHAIN_SENT against the arguments the farm gives each piece of frame 1 (``cluster_arguments`` over
+    the declared pieces), a frame read again being no transfer: a piece graph changed in one place and not the
+    other fails here."""
+    shot = ShotSettings(Params(seed=1), 3, False, OPTICAL_FLOW_MOTION, (40, 60), measures=True)
+    pieces = ShotPieces(shot, [Path("a.png"), Path("b.png")], (1, 2), Path("out"), analyse_ahead=True)
+    results = {PieceKey(kind, index, 0): ("result", kind.value) for kind in PieceKind for index in (0, 1)}
+
+    def handed(kinds) -> list:
+        pairs = []
+        for kind in kinds:
+            piece = pieces.piece(PieceKey(kind, 1), [(0, 40)])
+            for argument in cluster_arguments(piece, results, {0: ("result", "lived")}, shot, pieces.paths):
+                if isinstance(argument, tuple) and argument[:1] == ("result",):
+                    pairs.append((kind.value, argument[1]))
+        return sorted(pairs)
+
+    assert handed(PieceKind) == sorted(pair for pair in SENT if pair[0] != "client")
+    assert handed(CHAIN_KINDS) == sorted(pair for pair in CHAIN_SENT if pair[0] != "client")
 
 
 def test_projection_on_few_threads_is_bound_by_the_work():

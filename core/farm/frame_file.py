@@ -42,17 +42,33 @@ class FrameFile(NamedTuple):
         return read_frame(self.path, self.shot, self.vectors)
 
 
+READ, STROKES, RESULT = "read", "strokes", "result"
+"""Where the farm takes a piece's input from (``input_source``)."""
+
+
+def input_source(piece: PieceKey, need: PieceKey, sent: bool = True) -> str:
+    """Where the farm takes the input ``need`` of the piece ``piece``: READ, the frame file read again where the
+    piece runs (a PREPARE input of a piece in ``READ_AGAIN``); STROKES, the frame's strokes gathered in this process
+    (the frame before's, for a piece of the ``LIFE_CHAIN``, or a BIRTH input never ``sent``: a resumed frame's);
+    RESULT, the result of the piece ``need`` (a future on a cluster)."""
+    if need.kind is PieceKind.PREPARE and piece.kind in READ_AGAIN:
+        return READ
+    if need.kind is PieceKind.BIRTH and (piece.kind in LIFE_CHAIN or not sent):
+        return STROKES
+    return RESULT
+
+
 def cluster_arguments(piece: Piece, results: Mapping[PieceKey, object], strokes: Mapping[int, object],
                       shot: ShotSettings, paths) -> list:
-    """The arguments the farm gives ``piece``, one per key it needs: a PREPARE input of a piece that reads its
-    frames again (``READ_AGAIN``) as a ``FrameFile`` of ``paths``; the frame before's strokes of a piece of the
-    life chain from ``strokes`` ({frame index: strokes gathered in this process}); any other input its entry in
-    ``results`` (a future on a cluster), or its strokes gathered when it has none (a resumed frame)."""
+    """The arguments the farm gives ``piece``, one per key it needs, from where ``input_source`` says: a
+    ``FrameFile`` of ``paths``, the strokes in ``strokes`` ({frame index: strokes gathered in this process}) or the
+    entry in ``results``."""
     arguments = []
     for need in piece.needs:
-        if need.kind is PieceKind.PREPARE and piece.key.kind in READ_AGAIN:
+        source = input_source(piece.key, need, need in results)
+        if source == READ:
             arguments.append(FrameFile(paths[need.index], shot, READ_AGAIN[piece.key.kind]))
-        elif need.kind is PieceKind.BIRTH and (piece.key.kind in LIFE_CHAIN or need not in results):
+        elif source == STROKES:
             arguments.append(strokes[need.index])
         else:
             arguments.append(results[need])

@@ -18,7 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Dict, Iterable, Iterator, Mapping, Optional, Set
 
-from ..sequence.pieces import PieceKey, PieceKind
+from ..sequence.pieces import PieceKey, PieceKind, piece_needs
+from .frame_file import READ, STROKES, input_source
 
 MAX_BANDS = 8
 """Bands of rows a frame's judging canvas is laid in at most, side by side (one per worker thread up to this): a
@@ -59,17 +60,12 @@ def urgent(board: Board, committed: int, living: int, ahead: int) -> Iterator[Pi
     ``living`` on have not lived, frames ``ahead`` on wait."""
     if ready_to_live(board, living):
         yield PieceKey(PieceKind.CARRY, living)
-    bands = board.bands.get(living)
-    if bands is not None:
-        judging = [PieceKey(PieceKind.JUDGE, living, band) for band in range(bands)]
-        yield from (key for key in judging if key not in board.started)
-        birth = PieceKey(PieceKind.BIRTH, living)
-        if birth not in board.started and all(key in board.made for key in judging):
-            yield birth
+    judging = [PieceKey(PieceKind.JUDGE, living, band) for band in range(board.bands.get(living, 0))]
+    yield from (key for key in judging + [PieceKey(PieceKind.BIRTH, living)] if ready(board, key))
     for index in range(living, min(living + 2, ahead)):
         yield from preparing(board, index)
     for index in range(committed, living):
-        if PieceKey(PieceKind.SHOWN, index) not in board.started:
+        if ready(board, PieceKey(PieceKind.SHOWN, index)):
             yield PieceKey(PieceKind.SHOWN, index)
         if ready_to_write(board, index):
             yield PieceKey(PieceKind.WRITE, index)
@@ -81,24 +77,41 @@ def preparing(board: Board, index: int) -> Iterator[PieceKey]:
     """The pieces frame ``index`` needs before it can live, not started yet: its PREPARE and (after the first
     frame) its MOTION."""
     kinds = (PieceKind.PREPARE, PieceKind.MOTION) if index > 0 else (PieceKind.PREPARE,)
-    yield from (PieceKey(kind, index) for kind in kinds if PieceKey(kind, index) not in board.started)
+    yield from (PieceKey(kind, index) for kind in kinds if ready(board, PieceKey(kind, index)))
+
+
+def ready(board: Board, key: PieceKey) -> bool:
+    """Whether the piece ``key`` can start: it is not started, its frame is in the run (and, for a JUDGE or BIRTH
+    piece, its judging bands are known) and every input it needs (``pieces.piece_needs``) is at hand."""
+    if key in board.started or key.index >= board.count:
+        return False
+    if key.kind in (PieceKind.JUDGE, PieceKind.BIRTH) and key.index not in board.bands:
+        return False
+    needs = piece_needs(key, board.bands.get(key.index, 0), board.measures)
+    return all(at_hand(board, key, need) for need in needs)
+
+
+def at_hand(board: Board, key: PieceKey, need: PieceKey) -> bool:
+    """Whether the input ``need`` of the piece ``key`` is at hand where the farm takes it from
+    (``frame_file.input_source``): a frame read again always, strokes once gathered here, a result once made."""
+    source = input_source(key, need, need in board.started)
+    if source == READ:
+        return True
+    if source == STROKES:
+        return need.index in board.lived
+    return need in board.made
 
 
 def ready_to_live(board: Board, index: int) -> bool:
-    """Whether frame ``index``'s life can start: its carry is not started, the frame before has lived, and its own
-    PREPARE and MOTION are made."""
-    needs = [PieceKey(PieceKind.PREPARE, index)] + ([PieceKey(PieceKind.MOTION, index)] if index else [])
-    return (index < board.count and PieceKey(PieceKind.CARRY, index) not in board.started
-            and (index == 0 or index - 1 in board.lived) and all(key in board.made for key in needs))
+    """Whether frame ``index``'s life can start: its carry is ready (the frame before has lived, its own PREPARE
+    and MOTION are made)."""
+    return ready(board, PieceKey(PieceKind.CARRY, index))
 
 
 def ready_to_write(board: Board, index: int) -> bool:
-    """Whether frame ``index``'s maps can be written: its WRITE is not started, it is shown and, when the shot
-    measures and after the first frame, the frame before is shown and the motion between them made."""
-    before = [PieceKey(PieceKind.SHOWN, index - 1), PieceKey(PieceKind.MOTION, index)] if index and board.measures \
-        else []
-    return (PieceKey(PieceKind.WRITE, index) not in board.started
-            and all(key in board.made for key in [PieceKey(PieceKind.SHOWN, index)] + before))
+    """Whether frame ``index``'s maps can be written: its WRITE is ready (the frame is shown and, when the shot
+    measures and after the first frame, the frame before is shown and the motion between them made)."""
+    return ready(board, PieceKey(PieceKind.WRITE, index))
 
 
 def free_workers(threads: Mapping[str, int], running: Iterable[str]) -> Dict[str, int]:

@@ -25,7 +25,7 @@ WRITE     frame t's maps (and measures, when the shot            PREPARE t, BIRT
                                                                  t-1, MOTION t
 ========  =====================================================  ==========================================
 
-``ShotPieces.piece`` is the declaration. How many JUDGE bands frame t has
+``piece_needs`` declares what each piece needs, ``ShotPieces.piece`` how it is made. How many JUDGE bands frame t has
 is known once its CARRY is made (``judging_bands``: none when the life is
 complete). The one-process loop (``shot.Run.paint_from``) makes the pieces
 in frame order, the farm (``core.farm.sequence``) submits them to Dask, the
@@ -209,6 +209,32 @@ def judging_bands(step: LifeStep, height: int, parts: int) -> List[Rows]:
     return laying_bands(step.carried.living.settled().strokes, height, parts)
 
 
+def piece_needs(key: PieceKey, bands: int = 0, measures: bool = False) -> Tuple[PieceKey, ...]:
+    """The pieces the piece ``key`` needs, in the order its ``make`` takes their results (the module docstring's
+    table): the one declaration of the frame's piece graph, which ``ShotPieces.piece``, the farm's scheduling and
+    the bench follow. ``bands``: the frame's number of judging bands (0: its life completed at its carry);
+    ``measures``: whether the shot measures (``ShotSettings.measures``)."""
+    kind, t = key.kind, key.index
+    prepared, motion = PieceKey(PieceKind.PREPARE, t), PieceKey(PieceKind.MOTION, t)
+    carried, lived, lived_before = PieceKey(PieceKind.CARRY, t), PieceKey(PieceKind.BIRTH, t), \
+        PieceKey(PieceKind.BIRTH, t - 1)
+    if kind is PieceKind.PREPARE:
+        return ()
+    if kind is PieceKind.MOTION:
+        return PieceKey(PieceKind.PREPARE, t - 1), prepared
+    if kind is PieceKind.CARRY:
+        return (prepared,) + ((lived_before, motion) if t else ())
+    if kind is PieceKind.JUDGE or (kind is PieceKind.BIRTH and not bands):
+        return (carried,)
+    if kind is PieceKind.BIRTH:
+        return (prepared, lived_before, motion, carried) + tuple(PieceKey(PieceKind.JUDGE, t, band)
+                                                                 for band in range(bands))
+    if kind is PieceKind.SHOWN:
+        return (lived,)
+    before = (PieceKey(PieceKind.PREPARE, t - 1), PieceKey(PieceKind.SHOWN, t - 1), motion) if t and measures else ()
+    return (prepared, lived, PieceKey(PieceKind.SHOWN, t)) + before
+
+
 class ShotPieces:
     """The declaration of a shot's pieces (module docstring): frames ``paths`` numbered ``numbers``, painted with
     ``shot`` into staging folders of ``folder``; PREPARE analyses after the first frame when ``analyse_ahead``
@@ -220,41 +246,32 @@ class ShotPieces:
         self.analyse_ahead = analyse_ahead
 
     def piece(self, key: PieceKey, bands: Sequence[Rows] = ()) -> Piece:
-        """The piece ``key``: what it needs and how it is made; ``bands``: the frame's judging bands
-        (``judging_bands``), which a JUDGE or BIRTH piece needs."""
+        """The piece ``key``: what it needs (``piece_needs``) and how it is made; ``bands``: the frame's judging
+        bands (``judging_bands``), which a JUDGE or BIRTH piece needs."""
         kind, t, shot = key.kind, key.index, self.shot
-        prepared, motion = PieceKey(PieceKind.PREPARE, t), PieceKey(PieceKind.MOTION, t)
-        carried, lived, lived_before = PieceKey(PieceKind.CARRY, t), PieceKey(PieceKind.BIRTH, t), \
-            PieceKey(PieceKind.BIRTH, t - 1)
+        needs = piece_needs(key, len(bands), shot.measures)
         if kind is PieceKind.PREPARE:
-            return Piece(key, (), partial(prepare, self.paths[t], shot, self.analyse_ahead and t > 0))
+            return Piece(key, needs, partial(prepare, self.paths[t], shot, self.analyse_ahead and t > 0))
         if kind is PieceKind.MOTION:
-            return Piece(key, (PieceKey(PieceKind.PREPARE, t - 1), prepared), partial(motion_between, shot))
+            return Piece(key, needs, partial(motion_between, shot))
         if kind is PieceKind.CARRY:
-            return Piece(key, (prepared,) + ((lived_before, motion) if t else ()), partial(carry_step, shot, t),
-                         staged=True)
+            return Piece(key, needs, partial(carry_step, shot, t), staged=True)
         if kind is PieceKind.JUDGE:
-            return Piece(key, (carried,), partial(judged_rows, shot, bands[key.band]))
+            return Piece(key, needs, partial(judged_rows, shot, bands[key.band]))
         if kind is PieceKind.BIRTH and not bands:
-            return Piece(key, (carried,), completed_life)
+            return Piece(key, needs, completed_life)
         if kind is PieceKind.BIRTH:
-            judging = tuple(PieceKey(PieceKind.JUDGE, t, band) for band in range(len(bands)))
-            return Piece(key, (prepared, lived_before, motion, carried) + judging, partial(born, shot, t),
-                         staged=True)
+            return Piece(key, needs, partial(born, shot, t), staged=True)
         if kind is PieceKind.SHOWN:
-            return Piece(key, (lived,), partial(shown, shot))
-        before = (PieceKey(PieceKind.PREPARE, t - 1), PieceKey(PieceKind.SHOWN, t - 1), motion) \
-            if t and shot.measures else ()
-        return Piece(key, (prepared, lived, PieceKey(PieceKind.SHOWN, t)) + before,
-                     partial(write, self.folder, self.numbers[t], shot))
+            return Piece(key, needs, partial(shown, shot))
+        return Piece(key, needs, partial(write, self.folder, self.numbers[t], shot))
 
     def needed_by_next(self, index: int) -> Set[PieceKey]:
         """The pieces of frame ``index`` that some piece of frame ``index`` + 1 (which must exist) needs: what a
         runner keeps of a frame once it is committed."""
         after = index + 1
         keys = [PieceKey(kind, after) for kind in PieceKind]
-        return {need for key in keys for need in self.piece(key, row_bands(self.shot.shape[0], 1)).needs
-                if need.index == index}
+        return {need for key in keys for need in piece_needs(key, 1, self.shot.measures) if need.index == index}
 
     @staticmethod
     def life_start_keys(index: int) -> List[PieceKey]:
