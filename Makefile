@@ -92,16 +92,23 @@ $(NUMPY1_VENV)/.installed: requirements-numpy1.txt
 
 # The demo: analyse and paint SAMPLE, then the lighting comparison (Cycles renders of the canvas under a sweep
 # of 8 lights with and without relief, against the 2-D lighting), then Paint Object on the demo box (its texture
-# painted in its UV space, filmed on an 8-view turntable). Each step prints its seconds.
+# painted in its UV space, filmed on a DEMO_VIEWS-view turntable), then tools/check_demo.py, which fails when a
+# promised output is missing or not a whole picture. Each step prints its seconds.
 # BLENDER_USER_RESOURCES keeps Blender's user files inside $(OUT).
+DEMO_VIEWS ?= 8
 demo: $(STAMP)
 	@mkdir -p $(OUT)
 	@s=$$(date +%s); echo "$(PY) -m core analyze $(SAMPLE) -o $(OUT)/analysis"; \
 	  $(PY) -m core analyze $(SAMPLE) -o $(OUT)/analysis && echo "analyze took $$(( $$(date +%s) - s )) s"
 	@s=$$(date +%s); echo "$(PY) -m core paint $(SAMPLE) -o $(OUT)/painting"; \
 	  $(PY) -m core paint $(SAMPLE) -o $(OUT)/painting && echo "paint took $$(( $$(date +%s) - s )) s"
-	BLENDER_USER_RESOURCES=$(abspath $(OUT))/blender_user $(PY) sample_scenes/compare.py $(SAMPLE) -o $(OUT)/compare
-	BLENDER_USER_RESOURCES=$(abspath $(OUT))/blender_user $(PY) sample_scenes/paint_object.py -o $(OUT)/object --views 8
+	@s=$$(date +%s); echo "$(PY) sample_scenes/compare.py $(SAMPLE) -o $(OUT)/compare"; \
+	  BLENDER_USER_RESOURCES=$(abspath $(OUT))/blender_user $(PY) sample_scenes/compare.py $(SAMPLE) -o $(OUT)/compare \
+	  && echo "compare took $$(( $$(date +%s) - s )) s"
+	@s=$$(date +%s); echo "$(PY) sample_scenes/paint_object.py -o $(OUT)/object --views $(DEMO_VIEWS)"; \
+	  BLENDER_USER_RESOURCES=$(abspath $(OUT))/blender_user $(PY) sample_scenes/paint_object.py -o $(OUT)/object \
+	  --views $(DEMO_VIEWS) && echo "paint_object took $$(( $$(date +%s) - s )) s"
+	$(PY) tools/check_demo.py $(OUT) --views $(DEMO_VIEWS)
 	@echo "Demo outputs are in $(OUT)/: analysis/ (importance, partition, orientation), painting/ (maps, preview, report),"
 	@echo "compare/ (comparison.png, correlation.png, light_sweep.gif, comparison.md and .json, renders/, scene.blend),"
 	@echo "object/ (the demo box's maps/, turntable/ relit, paper, original and side_by_side, object.json, scene.blend)"
