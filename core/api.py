@@ -66,15 +66,37 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     digest = input_sha256(input_path)
     if pages > 1 and notice is not None:
         notice(pages_notice(input_path, pages))
+
+    def painted():
+        image = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)
+        mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
+        return paint(image, params, progress=progress, cancel=cancel, mask=mask)
+
+    def written(staging: Path, painting) -> dict:
+        return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)
+
+    return committed_painting(output_dir, input_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()),
+                              painted, written)
+
+
+def committed_painting(output_dir, input_path, names: tuple, painted: Callable[[], object],
+                       written: Callable[[Path, object], dict]) -> dict:
+    """The skeleton every entry that paints into a folder shares (``paint_file``, ``paint_object``); returns the
+    report with its "output_dir".
+
+    Locks ``output_dir`` (one writer per folder, ``staging.output_folder``),
+    refuses in one sentence anything standing where one of the file
+    ``names`` must go, paints (``painted()`` -> Painting) and commits what
+    ``written(staging folder, painting)`` writes there (it returns the
+    report) all together or not at all. A MemoryError becomes the
+    one-sentence ``out_of_memory`` naming ``input_path``.
+    """
     try:
         with output_folder(output_dir) as folder:
-            folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()))
-            image = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)
-            mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
-            painting = paint(image, params, progress=progress, cancel=cancel, mask=mask)
+            folder.check_names(names)
+            painting = painted()
             with folder.staged() as staging:
-                report = write_painting(staging, painting, str(input_path), normal_map, pages=pages,
-                                        source_sha256=digest)
+                report = written(staging, painting)
     except MemoryError:
         raise out_of_memory(input_path) from None
     report["output_dir"] = str(Path(output_dir).resolve())
@@ -202,7 +224,7 @@ def paint_batch(inputs, output_root, params: Params, normal_map: bool = False, p
         if not shots[k]:
             reports[k] = dict(report, output_dir=str(Path(folders[k]).resolve()), batch=KEPT)
     stills = [k for k, shot in enumerate(shots) if not shot and reports[k] is None]
-    with connected_farm(farm) as client:
+    with connected_farm(farm if stills or any(shots) else None) as client:  # no cluster when every still is kept
         if stills and client is not None:
             from .farm.batch import paint_stills
 
@@ -360,13 +382,15 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     density and stroke widths in mm), "stroke_mm" and "bleed_texels". keep_source: a copy of the source is
     committed with the maps as ``SOURCE_COPY`` plus its suffix, and the report's "input" names that copy (for a
     source that lives only as long as the caller's temporary folder). Checks, locking, all-or-nothing and
-    one-sentence failures as ``paint_file``.
+    one-sentence failures as ``paint_file`` (``committed_painting``). The texture is painted with the paper's
+    method and layout, whose strokes are laid on each island's texels alone: any other is refused in one sentence
+    before any work (``Params.validate_object``), and report.json names the "method" painted.
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, write_painting
     from .surface.mesh import SurfaceMesh, check_mesh, read_obj
     from .surface.texture import paint_texture, square_texture, surface_layout
 
-    params.validate()
+    params.validate_object()
     width, height, _ = reading.probe(texture_path, params.max_megapixels)
     budget.check_bomb(texture_path, width, height)
     low, high = TEXTURE_SIZES
@@ -379,21 +403,20 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     budget.check(texture_path, size, size, params.layers, max_memory=max_memory)
     budget.check_space(output_dir, texture_path, size, size, normal_map)
     copy = SOURCE_COPY + Path(texture_path).suffix.lower() if keep_source else None
-    try:
-        with output_folder(output_dir) as folder:
-            folder.check_names(PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()) + ((copy,) if copy else ()))
-            image = reading.read_image(texture_path, params.max_megapixels, params.canvas_colour)
-            painting = paint_texture(square_texture(image, size), surface_layout(surface, size), params, stroke_mm,
-                                     progress, cancel)
-            with folder.staged() as staging:
-                if copy:
-                    copy_file(texture_path, staging / copy)
-                source = Path(output_dir).resolve() / copy if copy else texture_path
-                report = write_painting(staging, painting, str(source), normal_map)
-    except MemoryError:
-        raise out_of_memory(texture_path) from None
-    report["output_dir"] = str(Path(output_dir).resolve())
-    return report
+
+    def painted():
+        image = reading.read_image(texture_path, params.max_megapixels, params.canvas_colour)
+        return paint_texture(square_texture(image, size), surface_layout(surface, size), params, stroke_mm,
+                             progress, cancel)
+
+    def written(staging: Path, painting) -> dict:
+        if copy:
+            copy_file(texture_path, staging / copy)
+        source = Path(output_dir).resolve() / copy if copy else texture_path
+        return write_painting(staging, painting, str(source), normal_map)
+
+    return committed_painting(output_dir, texture_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ())
+                              + ((copy,) if copy else ()), painted, written)
 
 
 def copy_file(source, target: Path) -> None:

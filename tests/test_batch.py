@@ -50,7 +50,8 @@ def painted(folder: Path) -> dict:
 def test_a_batch_on_two_local_workers_paints_each_still_as_painting_it_alone(tmp_path):
     pytest.importorskip("distributed")
     inputs = photos(tmp_path / "in")
-    (tmp_path / "out" / "photo_001").mkdir(parents=True)       # an earlier painting's folder is never written over
+    (tmp_path / "out" / "photo_001").mkdir(parents=True)       # a folder holding something else is never written over
+    (tmp_path / "out" / "photo_001" / "painting.png").write_bytes(b"an earlier painting")
     reports = paint_batch([str(p) for p in inputs], tmp_path / "out", PARAMS, farm=farm(2))
     folders = [Path(r["output_dir"]).name for r in reports]
     assert folders == ["still_0_001", "photo_002", "still_2_001", "still_3_001", "photo_003", "still_5_001"]
