@@ -158,6 +158,17 @@ def test_graph_is_read():
     assert "addon.scene.canvas" in graph["addon.settings.properties"]  # `from ..scene import canvas`, deferred
 
 
+def test_a_method_is_reached_through_the_registry_alone():
+    """No module of core or addon outside core/methods imports a method's own module: a still, a shot's frame and a
+    texture's island are painted through ``core.methods.registry``."""
+    graph = import_graph()
+    methods = {"core.methods.huang11", "core.methods.hertzmann98"}
+    assert methods <= set(graph)
+    reaching = {module: sorted(graph[module] & methods) for module in graph
+                if not module.startswith("core.methods") and graph[module] & methods}
+    assert reaching == {}
+
+
 def test_no_import_cycles():
     found = cycles(import_graph())
     assert not found, "import cycles: " + "; ".join(" <-> ".join(c) for c in found)

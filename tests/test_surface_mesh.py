@@ -91,6 +91,7 @@ def test_core_object_writes_the_texture_s_maps_and_each_island_s_figures(tmp_pat
     assert run.returncode == 0, run.stderr
     report = json.loads((tmp_path / "out" / "report.json").read_text())
     assert report["width"] == report["height"] == 128 and report["stroke_mm"] == [80.0, 40.0, 20.0]
+    assert (report["method"], report["layout"]) == ("huang11", "paper")
     first, second = report["islands"]
     assert (first["density_m_per_uv"], second["density_m_per_uv"]) == (2.0, 8.0)
     assert (first["sizes_texels"], second["sizes_texels"]) == ([5, 3, 2], [2])       # 15.625 and 62.5 mm texels
@@ -124,3 +125,40 @@ def test_a_kept_source_is_committed_with_the_maps_and_named_as_the_input(tmp_pat
     assert kept.read_bytes() == (tmp_path / "scratch.png").read_bytes()
     assert report["input"] == str(kept.resolve())
     assert json.loads((tmp_path / "out" / "report.json").read_text())["input"] == str(kept.resolve())
+
+
+OBJECT_METHOD = "Objects are painted with the paper's method (Huang 2011, huang11); Hertzmann 1998 (hertzmann98) " \
+                "paints still images only."
+
+
+def test_an_object_with_hertzmann_1998_is_refused_in_one_sentence_before_anything_is_written(tmp_path):
+    from core import api
+    from core.errors import ParameterError
+    from core.params import Params
+    from core.surface.texture import paint_texture, surface_layout
+
+    (tmp_path / "two.obj").write_text(TWO_ISLANDS)
+    write_png(tmp_path / "texture.png", np.random.default_rng(2).random((64, 64, 3)))
+    with pytest.raises(ParameterError) as caught:
+        api.paint_object(tmp_path / "texture.png", tmp_path / "two.obj", tmp_path / "out",
+                         Params(method="hertzmann98"), 64)
+    assert str(caught.value) == OBJECT_METHOD
+    with pytest.raises(ParameterError) as caught:
+        api.paint_object(tmp_path / "texture.png", tmp_path / "two.obj", tmp_path / "out",
+                         Params(layout="hertzmann98"), 64)
+    assert str(caught.value) == ("Objects are painted with the paper's layout; the layout hertzmann98 paints still "
+                                 "images only.")
+    assert not (tmp_path / "out").exists()
+    layout = surface_layout(read_obj(tmp_path / "two.obj"), 64)
+    with pytest.raises(ParameterError, match="^Objects are painted with the paper's method"):
+        paint_texture(np.full((64, 64, 3), 0.5, np.float32), layout, Params(method="hertzmann98"))
+
+
+def test_the_object_command_has_no_method_to_choose(tmp_path):
+    (tmp_path / "two.obj").write_text(TWO_ISLANDS)
+    write_png(tmp_path / "texture.png", np.full((16, 16, 3), 0.5))
+    run = command(tmp_path / "texture.png", "--mesh", tmp_path / "two.obj", "-o", tmp_path / "out",
+                  "--method", "hertzmann98")
+    assert run.returncode == 2
+    assert "Unrecognized arguments: --method hertzmann98" in one_sentence_run(run)
+    assert not (tmp_path / "out").exists()
