@@ -159,7 +159,11 @@ class VIEW3D_PT_paint_relief_object(_PaintReliefPanel, Panel):
                "object_relief", "thickness_mm", "object_output_dir")
         if not settings.object_output_dir and obj is not None:
             _note(layout, os.path.join(properties.paintings_parent(context), values.folder_stem(obj.name) + "_NNN"))
-        layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
+        if settings.method == "HERTZMANN98":
+            layout.label(text="Objects are painted with the paper's method: choose Huang 2011 in Paint",
+                         icon="ERROR")
+        else:
+            layout.label(text="The Paint panel's painter settings apply", icon="BRUSH_DATA")
         layout.operator("paint_relief.paint_object", icon="BRUSH_DATA")
         if obj is not None and obj.get(object_material.PAINTED_KEY):
             painted = object_material.shows_painting(obj)

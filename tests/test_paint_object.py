@@ -51,6 +51,15 @@ def test_the_relief_can_be_cycles_material_displacement_over_an_adaptive_subdivi
     assert sphere["then_linked"] == [] and sphere["then_method"] == "BUMP"
 
 
+def test_paint_object_with_hertzmann_1998_is_one_sentence_and_writes_nothing_and_the_panel_says_so(found):
+    refused = _step(found, "sphere_with_hertzmann_1998")
+    assert refused["refused"] is None and not refused["output_exists"]
+    assert refused["error"].strip() == ("Error: Objects are painted with the paper's method (Huang 2011, huang11); "
+                                        "Hertzmann 1998 (hertzmann98) paints still images only.")
+    assert "Objects are painted with the paper's method: choose Huang 2011 in Paint" in refused["labels"]["HERTZMANN98"]
+    assert "The Paint panel's painter settings apply" in refused["labels"]["HUANG11"]
+
+
 def test_a_mesh_without_a_uv_map_is_one_sentence_offering_smart_uv_project_which_unwraps_it(found):
     monkey = _step(found, "monkey_without_uvs")
     assert monkey["refused"] is None

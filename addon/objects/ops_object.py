@@ -54,8 +54,8 @@ class ObjectJob:
 
 
 def _prepare(operator, context):
-    """Check the object and the settings, find the texture's source; return an ``ObjectJob`` or None after
-    reporting the problem in one sentence."""
+    """Check the object and the settings (the paper's method: ``Params.validate_object``), find the texture's
+    source; return an ``ObjectJob`` or None after reporting the problem in one sentence."""
     missing = dependencies.problem()
     if missing is not None:
         operator.report({"ERROR"}, missing)
@@ -73,7 +73,7 @@ def _prepare(operator, context):
     size = int(settings.object_texture_size)
     scratch = tempfile.mkdtemp(prefix="paint_relief_object_")
     try:
-        params = params_from_settings(settings).validate()
+        params = params_from_settings(settings).validate_object()  # the paper's method: Hertzmann 1998 paints stills
         widths = values.parse_widths(settings.object_stroke_mm)
         folder = object_output_dir(context, obj)
         properties.check_output_folder(folder)

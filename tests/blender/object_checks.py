@@ -108,6 +108,39 @@ def sphere_with_cycles_displacement():
     return found
 
 
+class Labels:
+    """A panel layout that records the labels it is asked to show and takes everything else silently."""
+
+    def __init__(self, shown=None):
+        self.shown = [] if shown is None else shown
+
+    def label(self, text="", **options):
+        self.shown.append(text)
+
+    def __getattr__(self, name):
+        return lambda *args, **options: Labels(self.shown)
+
+
+@check
+def sphere_with_hertzmann_1998():
+    """Paint Object with Hertzmann 1998 chosen in the Paint panel: one sentence, nothing written; the panel says so."""
+    from paint_relief.addon import panels
+
+    settings.object_output_dir = os.path.join(WORK, "hertzmann")
+    shown = {}
+    for method in ("HERTZMANN98", "HUANG11"):
+        settings.method = method
+        layout = Labels()
+        panel = type("Panel", (), {"layout": layout, "_layout": lambda self: self.layout})()
+        panels.VIEW3D_PT_paint_relief_object.draw(panel, bpy.context)
+        shown[method] = layout.shown
+    settings.method = "HERTZMANN98"
+    refused, error = run(bpy.ops.paint_relief.paint_object)
+    settings.method = "HUANG11"
+    return {"refused": refused, "error": error, "output_exists": os.path.exists(settings.object_output_dir),
+            "labels": shown}
+
+
 @check
 def monkey_without_uvs():
     bpy.ops.object.select_all(action="DESELECT")
