@@ -16,7 +16,7 @@ from oracles import folder_bytes, one_sentence, one_sentence_run, same_bytes
 from test_sequence import write_moving_frames
 
 import core.files.writing as writing
-import core.sequence.shot as shot
+import core.sequence.shot_commit as shot_commit
 from core.errors import OutputError
 from core.files.frames import find_frames
 from core.files.lives import FILE_HEADER, LivesFile
@@ -230,14 +230,14 @@ def fail_maps(monkeypatch):
 
 def fail_state(monkeypatch):
     """Frame 3's state is cut short by a full disk (after its lives record was appended)."""
-    real = shot.save_state
+    real = shot_commit.save_state
 
     def save_state(path, frame, index, lives_bytes):
         if index == 2:
             Path(path).write_bytes(b"PK\x03\x04 half")
             raise no_space()
         return real(path, frame, index, lives_bytes)
-    monkeypatch.setattr(shot, "save_state", save_state)
+    monkeypatch.setattr(shot_commit, "save_state", save_state)
 
 
 def fail_lives(monkeypatch):
@@ -296,13 +296,13 @@ def signal_at(monkeypatch, where):
     from core.files import staging
 
     if where == "state":
-        real_save = shot.save_state
+        real_save = shot_commit.save_state
 
         def save_state(path, frame, index, lives_bytes):
             if index == 2:
                 os.kill(os.getpid(), signals_module.SIGTERM)
             return real_save(path, frame, index, lives_bytes)
-        monkeypatch.setattr(shot, "save_state", save_state)
+        monkeypatch.setattr(shot_commit, "save_state", save_state)
     else:
         real_commit, calls = staging.OutputFolder._commit, []
 

@@ -141,14 +141,17 @@ def source_name(settings, scene):
 
 
 def source_key(settings, scene, view_layer, params):
-    """Text naming what a run paints and how (the source: for the scene, its name and ``view_layer``'s; the
-    painter's parameters; the fade): a stopped run's folder is taken up again by a run with the same key."""
+    """Text naming what a run paints and how (the source: for the scene, its name and ``view_layer``'s; what makes
+    a shot's frames, ``core.sequence.shot_settings.shot_key``, its motion's source left to the frames): a stopped
+    run's folder is taken up again by a run with the same key."""
     import json
+
+    from ...core.sequence.shot_settings import shot_key
 
     source = settings.animation_source
     where = {"SCENE": lambda: "{}|{}".format(scene.name, view_layer.name),
              "IMAGE": lambda: settings.animation_image.name if settings.animation_image is not None else "",
              "FOLDER": lambda: bpy.path.abspath(settings.animation_folder),
              "PATTERN": lambda: bpy.path.abspath(settings.animation_pattern)}[source]()
-    return json.dumps({"source": source, "where": where, "params": params.to_dict(),
-                       "fade_frames": int(settings.animation_fade_frames)}, sort_keys=True)
+    key = shot_key(params, int(settings.animation_fade_frames), normal_map=False, motion=None)
+    return json.dumps({"source": source, "where": where, **key}, sort_keys=True)

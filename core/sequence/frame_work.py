@@ -122,8 +122,8 @@ def pair_measures(image: np.ndarray, next_image: np.ndarray, shown: Canvas, next
                   motion: FrameMotion) -> dict:
     """The steadiness of a pair of frames (ALGORITHM §9, "Measures"), with the painter's own motion: the warping
     error of the footage, of the painting's colour and of its raw height (normalised over the sequence by
-    ``shot.sequence_figures``), and the mean change where the footage stands still, of the footage and the
-    painting."""
+    ``shot_statistics.sequence_statistics``), and the mean change where the footage stands still, of the footage and
+    the painting."""
     still = still_pixels(motion.forward, motion.backward) & motion.visible
     return {"warping_error": {
         "footage": warping_error(image, next_image, motion.forward, motion.visible),

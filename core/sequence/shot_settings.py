@@ -3,10 +3,20 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Tuple
+from typing import Optional, Tuple
 
 from ..motion.source import VECTOR_PASS_MOTION
 from ..params import Params
+from ..version import __version__
+
+
+def shot_key(params: Params, fade_frames: int, normal_map: bool, motion: Optional[str]) -> dict:
+    """What makes a shot's frames, as plain data: the painter's version, the parameters (seed included), the fade,
+    the normal-map setting and the motion's source (None where the frames are not read yet: it comes from their
+    headers). A shot's fingerprint (``shot_resume.fingerprint``) and the add-on's key of a run
+    (``addon.painting.shot_source.source_key``) are made of it."""
+    return {"version": __version__, "params": params.to_dict(), "fade_frames": fade_frames,
+            "normal_map": normal_map, "motion": motion}
 
 
 @dataclass(frozen=True)
@@ -25,6 +35,11 @@ class ShotSettings:
     motion: str
     shape: Tuple[int, int]
     measures: bool = False
+
+    @property
+    def key(self) -> dict:
+        """What makes this shot's frames (``shot_key``)."""
+        return shot_key(self.params, self.fade_frames, self.normal_map, self.motion)
 
     @property
     def vector_pass(self) -> bool:
