@@ -235,6 +235,16 @@ def _add_files_parser(sub, name: str, summary: str, description: str, inputs: tu
     return p
 
 
+def _add_shot_options(p: argparse.ArgumentParser) -> None:
+    """The options of how a shot is painted (``SequenceSettings``), for `sequence` and `batch`."""
+    p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
+                   help="frames a stroke of a shot takes to fade in when born and out when it dies "
+                        "(default: %(default)s)")
+    p.add_argument("--measures", action="store_true",
+                   help="also measure each pair of a shot's frames' steadiness (warping errors, stillness) into its "
+                        "report.json; it changes no painted byte")
+
+
 def _add_sequence_parser(sub) -> None:
     p = _add_files_parser(
         sub, "sequence", "paint an image sequence with strokes that live across frames",
@@ -247,11 +257,7 @@ def _add_sequence_parser(sub) -> None:
                            "frame files in order (PNG, JPEG, TIFF, EXR, Blender multilayer EXR)"),
         ("OUTDIR", "folder for the outputs (created if missing)"))
     p.add_argument("--frames", metavar="A-B", help="paint frames A to B only (A-, -B and A also work)")
-    p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
-                   help="frames a stroke takes to fade in when born and out when it dies (default: %(default)s)")
-    p.add_argument("--measures", action="store_true",
-                   help="also measure each pair of frames' steadiness (warping errors, stillness) into report.json; "
-                        "it changes no painted byte")
+    _add_shot_options(p)
     _add_partition_options(p)
     _add_stroke_options(p)
     _add_run_options(p)
@@ -274,10 +280,7 @@ def _add_batch_parser(sub) -> None:
         ("input", "INPUT", "still images (PNG, JPEG, TIFF, EXR, ...) and shots: folders of frames or patterns "
                            "with # for the frame number"),
         ("OUTROOT", "folder under which each painting gets its own folder (created if missing)"))
-    p.add_argument("--fade-frames", type=_int, default=SequenceSettings.fade_frames, metavar="K",
-                   help="a shot's frames a stroke takes to fade in and out (default: %(default)s)")
-    p.add_argument("--measures", action="store_true",
-                   help="also measure each pair of a shot's frames' steadiness into its report.json")
+    _add_shot_options(p)
     p.add_argument("--fresh", action="store_true",
                    help="paint every input anew into the next free folder, keeping nothing an earlier run painted")
     _add_partition_options(p)
