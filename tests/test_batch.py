@@ -404,3 +404,16 @@ def test_a_batch_run_again_on_a_cluster_keeps_and_paints_the_same_folders(tmp_pa
         ("still_0_001", "kept"), ("still_1_001", "painted"), ("still_2_001", "painted")]
     assert untouched(out / "still_0_001") == kept
     assert {k: painted(out / f"still_{k}_001") for k in range(3)} == whole
+
+
+def test_a_stopped_batch_says_the_same_command_goes_on_or_without_fresh():
+    from types import SimpleNamespace
+
+    from core.cli import _interrupted_message
+
+    stopped = SimpleNamespace(name="SIGTERM")
+    args = SimpleNamespace(command="batch", input=["a.png"], output="out", fresh=False)
+    assert _interrupted_message(stopped, args) == ("Stopped by SIGTERM; the stills painted stay in out, each folder "
+                                                   "complete, and the same command goes on where it stopped.")
+    args.fresh = True
+    assert _interrupted_message(stopped, args).endswith("the same command without --fresh goes on where it stopped.")
