@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Pure helpers of the add-on: settings text to values, physical sizes, grids, directions.
 
-Nothing here imports ``bpy`` (NumPy, and the painter's naming rules in
-``core.files.folders`` and ``core.files.shot_files``, imported where
-needed), so these functions are tested without Blender. Lengths are metres
+Nothing here imports ``bpy`` (NumPy, the painter's naming rules in
+``core.files.folders`` and ``core.files.shot_files`` and its limits in
+``core.params``, imported where needed), so these functions are tested without Blender. Lengths are metres
 unless a name says otherwise; angles are radians.
 """
 
@@ -14,8 +14,6 @@ COLOR_MAP = "color.exr"
 HEIGHT_MAP = "height.exr"
 OPACITY_MAP = "opacity.exr"
 CANVAS_MAPS = (COLOR_MAP, HEIGHT_MAP, OPACITY_MAP)
-# Largest stroke size in pixels at 1 megapixel (core.params.MAX_STROKE_SIZE).
-MAX_STROKE_SIZE = 1024
 # Tangent-space normals, n * 0.5 + 0.5 (the Normal Map canvas).
 NORMAL_MAP = "normal.exr"
 
@@ -24,8 +22,10 @@ def parse_sizes(text):
     """Parse stroke sizes such as ``"64, 32,16 8"`` into a tuple of positive ints.
 
     Commas and/or spaces separate the sizes. Raises ValueError with a sentence
-    naming the bad entry.
+    naming the bad entry; the largest size is ``core.params.MAX_STROKE_SIZE``.
     """
+    from ..core.params import MAX_STROKE_SIZE
+
     parts = [p for p in text.replace(",", " ").split() if p]
     if not parts:
         raise ValueError("Stroke sizes are empty: give sizes in pixels such as 64,32,16,8,4.")
@@ -290,8 +290,8 @@ def guarded_folders(package_folder, repositories, user_folder=None):
 PAINTED_MATERIAL_KEY = "paint_relief_painted_material"
 """The custom property naming a painted object's own material (Paint Object)."""
 
-TEXTURE_SIZES = (1024, 2048, 4096, 8192)
-"""The texture sizes (texels a side) Paint Object offers."""
+TEXTURE_SIZE_CHOICES = (1024, 2048, 4096, 8192)
+"""The texture sizes (texels a side) Paint Object offers, within ``core.params.TEXTURE_SIZE_RANGE``."""
 
 
 def relief_levels(faces, texture_size, most=6):

@@ -12,7 +12,7 @@ from typing import Callable, Optional
 from .errors import InputError, OutputError, PaintReliefError, ParameterError
 from .files import budget, reading
 from .files.staging import output_folder
-from .params import Params, SequenceSettings
+from .params import TEXTURE_SIZE_RANGE, Params, SequenceSettings
 from .progress import CancelFn, ProgressFn, Stage
 
 
@@ -365,8 +365,6 @@ def shot_report(run, folder) -> Optional[dict]:
 
 SOURCE_COPY = "source"
 """The name (before the source's own suffix) of the copy of a texture's source that ``paint_object`` keeps."""
-TEXTURE_SIZES = (64, 16384)
-"""The smallest and largest texture (texels a side) ``paint_object`` paints."""
 
 
 def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: Optional[int] = None,
@@ -377,7 +375,7 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
 
     mesh: a ``core.surface.mesh.SurfaceMesh`` (Blender's loop triangles) or the path of a Wavefront OBJ file.
     texture_size: the painted texture's side in texels (default: the source's longer side, within
-    ``TEXTURE_SIZES``); the source is resampled to that square. stroke_mm: the stroke widths in mm on the surface (default:
+    ``TEXTURE_SIZE_RANGE``); the source is resampled to that square. stroke_mm: the stroke widths in mm on the surface (default:
     ``texture.default_stroke_mm``). The maps are the texture's; report.json adds "islands" (each island's texel
     density and stroke widths in mm), "stroke_mm" and "bleed_texels". keep_source: a copy of the source is
     committed with the maps as ``SOURCE_COPY`` plus its suffix, and the report's "input" names that copy (for a
@@ -393,7 +391,7 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     params.validate_object()
     width, height, _ = reading.probe(texture_path, params.max_megapixels)
     budget.check_bomb(texture_path, width, height)
-    low, high = TEXTURE_SIZES
+    low, high = TEXTURE_SIZE_RANGE
     size = min(max(width, height, low), high) if texture_size is None else texture_size
     if not (isinstance(size, int) and not isinstance(size, bool) and low <= size <= high):
         raise ParameterError(f"The texture size must be a whole number of texels from {low} to {high}, got {size}.")

@@ -31,6 +31,8 @@ MAX_STROKE_SIZE = 1024
 """Largest standard stroke size (px at 1 megapixel, a brush as wide as such an image)."""
 SEED_LIMIT = 2**63
 """Seeds are whole numbers 0 <= seed < SEED_LIMIT."""
+TEXTURE_SIZE_RANGE = (64, 16384)
+"""The smallest and largest texture (texels a side) ``api.paint_object`` paints."""
 
 
 def canonical_style(name) -> str:

@@ -63,8 +63,9 @@ def arguments(argv):
     parser.add_argument("scene", nargs="?", type=Path, help="the .blend file holding the object (default: the demo)")
     parser.add_argument("--object", default=None, metavar="NAME", help="the mesh object to paint (default: Box)")
     parser.add_argument("-o", "--output", type=Path, required=True, metavar="OUTDIR", help="folder for the results")
-    parser.add_argument("--texture-size", type=int, default=2048, choices=(1024, 2048, 4096, 8192), metavar="N",
-                        help="texels a side of the painted texture (default 2048)")
+    parser.add_argument("--texture-size", type=int, default=2048, metavar="N",
+                        help="texels a side of the painted texture, one of the panel's Texture Size choices "
+                             "(default 2048)")
     parser.add_argument("--views", type=int, default=24, metavar="V", help="turntable views (default 24)")
     parser.add_argument("--samples", type=int, default=16, metavar="S", help="Cycles samples (default 16)")
     parser.add_argument("--resolution", type=int, default=384, metavar="PX", help="square render size (default 384)")
@@ -348,6 +349,10 @@ def main(argv):
             package.register()
         core = importlib.import_module(package.__name__ + ".core")
         object_material = importlib.import_module(package.__name__ + ".addon.objects.object_material")
+        choices = importlib.import_module(package.__name__ + ".addon.values").TEXTURE_SIZE_CHOICES
+        if args.texture_size not in choices:
+            raise Failure(f"The texture size must be one of {', '.join(map(str, choices))} texels, got "
+                          f"{args.texture_size}.")
         out = args.output.resolve()
         maps = out / "maps"
         if maps.exists():

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import core.files.folders  # noqa: F401  (the core modules values imports, loaded before they are named below)
 import core.files.shot_files  # noqa: F401
+import core.params  # noqa: F401
 
 _ROOT = "paint_relief_addon_values"
 _PATH = Path(__file__).resolve().parent.parent / "addon" / "values.py"

@@ -208,8 +208,8 @@ class PaintReliefSettings(PropertyGroup):
         name="Stroke Sizes",
         description=(
             "Brush widths in pixels for a 1-megapixel photograph, largest first, separated by commas "
-            "(they scale with the square root of the photograph's size), each from 1 to {} px".format(
-                values.MAX_STROKE_SIZE)
+            "(they scale with the square root of the photograph's size), each from 1 px to the width of a "
+            "1-megapixel photograph"
         ),
         default="64,32,16,8,4",
         maxlen=64,
@@ -413,7 +413,7 @@ class PaintReliefSettings(PropertyGroup):
         name="Texture Size",
         description="Texels a side of the texture Paint Object paints in the object's UV space",
         items=tuple((str(size), "{}K".format(size // 1024), "{0} x {0} texels".format(size))
-                    for size in values.TEXTURE_SIZES),
+                    for size in values.TEXTURE_SIZE_CHOICES),
         default="2048",
     )
     object_texture_path: _path(
