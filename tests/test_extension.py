@@ -180,7 +180,7 @@ def test_packages_hold_the_extension_and_nothing_else(built_zips):
         assert own < MAX_ZIP_BYTES, "{} holds {} bytes besides its wheels".format(zip_path.name, own)
         for required in ("blender_manifest.toml", "__init__.py", "addon/__init__.py",
                          "addon/settings/properties.py", "addon/panels.py", "addon/painting/ops_paint.py",
-                         "addon/scene/ops_scene.py", "addon/scene/canvas.py", "addon/comparison/compare.py"):
+                         "addon/scene/ops_scene.py", "addon/scene/canvas_plane.py", "addon/comparison/compare.py"):
             assert required in names, "{} is missing from {}".format(required, zip_path.name)
         missing = [name for name in core_files if name not in names]
         assert not missing, "core files missing from {}: {}".format(zip_path.name, missing)

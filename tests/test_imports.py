@@ -155,7 +155,7 @@ def test_graph_is_read():
     assert "core.methods.huang11" in graph["core.methods.registry"]
     assert "core.files.reading" in graph["core.strokes.brush"]  # a deferred import counts
     assert "core" in graph["addon.painting.ops_paint"]  # `from ... import core`, resolved
-    assert "addon.scene.canvas" in graph["addon.settings.properties"]  # `from ..scene import canvas`, deferred
+    assert "addon.scene.canvas_plane" in graph["addon.settings.properties"]  # `from ..scene import canvas_plane`, deferred
 
 
 def test_a_method_is_reached_through_the_registry_alone():

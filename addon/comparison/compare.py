@@ -25,7 +25,7 @@ import bpy
 from mathutils import Vector
 
 from .. import values
-from ..scene import canvas, lighting
+from ..scene import canvas_plane, lighting
 
 # Cycles settings of the comparison renders.
 PIXEL_FILTER = "BOX"
@@ -144,7 +144,7 @@ def check_sweep(scene, canvas_obj, azimuths_deg, elevation_deg, samples):
     """Raise SweepError (one sentence) when the scene or the arguments cannot make a sweep; return the key light."""
     if canvas_obj is None:
         raise SweepError("The scene has no Paint Relief canvas: build the canvas first.")
-    if canvas.MAP_SIZE_KEY not in canvas_obj:
+    if canvas_plane.MAP_SIZE_KEY not in canvas_obj:
         raise SweepError("Canvas {} has no map size: build the canvas again.".format(canvas_obj.name))
     if len(azimuths_deg) == 0:
         raise SweepError("The light sweep needs at least one azimuth.")
@@ -156,10 +156,10 @@ def check_sweep(scene, canvas_obj, azimuths_deg, elevation_deg, samples):
         raise SweepError("The light elevation must be above 0 and at most 90 degrees, got {:g}.".format(elevation_deg))
     if int(samples) < 1:
         raise SweepError("Cycles needs at least 1 sample, got {}.".format(samples))
-    key = canvas.find_role(scene, "key_light")
+    key = canvas_plane.find_role(scene, "key_light")
     if key is None or key.type != "LIGHT":
         raise SweepError("The scene has no Paint Relief key light: add the lights first.")
-    if scene.camera is None or scene.camera.get(canvas.ROLE_KEY) != "camera":
+    if scene.camera is None or scene.camera.get(canvas_plane.ROLE_KEY) != "camera":
         raise SweepError("The scene has no Paint Relief camera: add the camera first.")
     return key
 
@@ -186,7 +186,7 @@ def sweep_steps(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, s
     previous = configure_render(scene, samples)
     previous.append((scene.render, "filepath", scene.render.filepath))
     # Render size = map size for the sweep only: the scene's own size comes back afterwards.
-    map_w, map_h = (int(v) for v in canvas_obj[canvas.MAP_SIZE_KEY])
+    map_w, map_h = (int(v) for v in canvas_obj[canvas_plane.MAP_SIZE_KEY])
     previous += [(scene.render, "resolution_x", scene.render.resolution_x),
                  (scene.render, "resolution_y", scene.render.resolution_y)]
     scene.render.resolution_x, scene.render.resolution_y = map_w, map_h
@@ -208,11 +208,11 @@ def sweep_steps(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, s
             for kind in ("relief", "flat"):
                 yield done, total, "Rendering the {} canvas, light at {:g} degrees ({}/{})".format(
                     kind, azimuth, done + 1, total)
-                canvas.set_relief(canvas_obj, kind == "relief")
+                canvas_plane.set_relief(canvas_obj, kind == "relief")
                 render_still(scene, os.path.join(renders_dir, values.render_file_name(kind, azimuth)))
                 done += 1
     finally:
-        canvas.set_relief(canvas_obj, True)
+        canvas_plane.set_relief(canvas_obj, True)
         restore(previous)
 
 
@@ -239,9 +239,9 @@ def render_sweep(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, 
 
 def relief_pixels(canvas_obj):
     """The canvas's relief in the 2-D bump model's unit (pixel widths per height unit)."""
-    map_w = int(canvas_obj[canvas.MAP_SIZE_KEY][0])
+    map_w = int(canvas_obj[canvas_plane.MAP_SIZE_KEY][0])
     width_m = canvas_obj.dimensions[0]
-    return canvas.canvas_thickness(canvas_obj) / (width_m / map_w)
+    return canvas_plane.canvas_thickness(canvas_obj) / (width_m / map_w)
 
 
 def compare(core_package, painting_dir, renders_dir, azimuths_deg, elevation_deg, out_dir, relief_px=None,

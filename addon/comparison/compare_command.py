@@ -142,7 +142,7 @@ def stage_scene(package, args, painting_dir, azimuths):
     map pixel), set to render the sweep; returns the canvas."""
     scene = command_line.stage_canvas(painting_dir, args, azimuths[0])
     package.addon.comparison.compare.configure_render(scene, args.samples)
-    return package.addon.scene.canvas.find_role(scene, "canvas")
+    return package.addon.scene.canvas_plane.find_role(scene, "canvas")
 
 
 def main(argv, prog=None):

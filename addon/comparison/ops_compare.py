@@ -24,7 +24,7 @@ from bpy.types import Operator
 
 from .. import dependencies, values
 from ..modal_job import ModalJob
-from ..scene import camera, canvas, lighting
+from ..scene import camera, canvas_plane, lighting
 from ..settings import properties
 from . import compare
 
@@ -71,12 +71,12 @@ def prepare(context):
         raise ValueError(missing)
     scene = context.scene
     settings = scene.paint_relief
-    canvas_obj = canvas.find_role(scene, "canvas")
+    canvas_obj = canvas_plane.find_role(scene, "canvas")
     if canvas_obj is None:
         raise compare.SweepError("The scene has no Paint Relief canvas: build the canvas first.")
-    if canvas.MAP_SIZE_KEY not in canvas_obj:
+    if canvas_plane.MAP_SIZE_KEY not in canvas_obj:
         raise compare.SweepError("Canvas {} has no map size: build the canvas again.".format(canvas_obj.name))
-    painting_dir = canvas_obj.get(canvas.PAINTING_DIR_KEY) or os.path.normpath(bpy.path.abspath(settings.painting_dir))
+    painting_dir = canvas_obj.get(canvas_plane.PAINTING_DIR_KEY) or os.path.normpath(bpy.path.abspath(settings.painting_dir))
     for name in COMPARISON_MAPS:
         path = os.path.join(painting_dir, name)
         if not os.path.isfile(path):
@@ -87,7 +87,7 @@ def prepare(context):
     azimuths = values.sweep_azimuths(settings.compare_azimuths)
     values.check_render_names(azimuths)
     camera.frame_canvas(context, canvas_obj)
-    if canvas.find_role(scene, "key_light") is None:
+    if canvas_plane.find_role(scene, "key_light") is None:
         lighting.add_lights(context, settings.light_azimuth, settings.light_elevation, settings.light_strength,
                             settings.fill_light)
     return _Job(canvas_obj, painting_dir, out_dir, azimuths, math.degrees(settings.light_elevation),
@@ -106,7 +106,7 @@ def _message(error, doing):
     """One line for an exception: the sentence our own errors carry, else what was being done."""
     from ... import core
 
-    if isinstance(error, (compare.SweepError, canvas.CanvasError, core.PaintReliefError, ValueError)):
+    if isinstance(error, (compare.SweepError, canvas_plane.CanvasError, core.PaintReliefError, ValueError)):
         return " ".join(str(error).split())
     return "{} failed: {}".format(doing, " ".join(str(error).split()) or type(error).__name__)
 
@@ -132,7 +132,7 @@ class PAINT_RELIEF_OT_render_comparison(ModalJob, Operator):
     @classmethod
     def poll(cls, context):
         return (getattr(context.scene, "paint_relief", None) is not None
-                and canvas.find_role(context.scene, "canvas") is not None)
+                and canvas_plane.find_role(context.scene, "canvas") is not None)
 
     def execute(self, context):
         try:

@@ -118,7 +118,7 @@ def stage_scene(package, args, painted_dir):
     """An empty scene with the animated canvas (the scene's frame range set to the sequence), the key light and
     the camera; returns (canvas, film size)."""
     scene = command_line.stage_canvas(painted_dir, args, args.azimuth, frame_range=True)
-    canvas_obj = package.addon.scene.canvas.find_role(scene, "canvas")
+    canvas_obj = package.addon.scene.canvas_plane.find_role(scene, "canvas")
     relit = package.addon.film.relit
     size = package.addon.values.film_size(*relit.canvas_map_size(canvas_obj), args.size)
     return canvas_obj, size

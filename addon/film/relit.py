@@ -20,7 +20,7 @@ import time
 import bpy
 
 from ..comparison.compare import cycles_attributes, render_still, restore
-from ..scene import animated, canvas
+from ..scene import animated, canvas_plane
 
 MOVIE_FPS = 10
 """Frames a second of the side-by-side MP4 (as the GIF)."""
@@ -141,7 +141,7 @@ def render_film(context, canvas_obj, relit_dir, samples, size, denoise=False, pr
 
 def canvas_map_size(canvas_obj):
     """(width, height) px of the canvas's maps."""
-    return tuple(int(v) for v in canvas_obj[canvas.MAP_SIZE_KEY])
+    return tuple(int(v) for v in canvas_obj[canvas_plane.MAP_SIZE_KEY])
 
 
 # ---------------------------------------------------------------------------

@@ -17,7 +17,7 @@ name), so one toggle shows them again and another the painting.
 import bpy
 
 from .. import values
-from ..scene import canvas, maps
+from ..scene import canvas_plane, maps
 from ..scene import material as canvas_material
 from .surface import uv_map_name
 
@@ -27,7 +27,7 @@ PAINTED_KEY = values.PAINTED_MATERIAL_KEY
 
 def relief_modifiers(obj):
     """The object's relief modifiers that Paint Object added (Subdivision, Displace), those present."""
-    return [m for m in (obj.modifiers.get(canvas.SUBDIVISION_MODIFIER), obj.modifiers.get(canvas.DISPLACE_MODIFIER))
+    return [m for m in (obj.modifiers.get(canvas_plane.SUBDIVISION_MODIFIER), obj.modifiers.get(canvas_plane.DISPLACE_MODIFIER))
             if m is not None]
 
 
@@ -35,15 +35,15 @@ def add_relief(obj, height_image, thickness, texture_size):
     """Displace ``obj`` by ``thickness`` metres x the height map: a simple Subdivision Surface fine enough for the
     texture (``values.relief_levels``) and a Displace modifier along the normals through the UV map."""
     levels = values.relief_levels(len(obj.data.polygons), texture_size)
-    subdivision = obj.modifiers.get(canvas.SUBDIVISION_MODIFIER)
+    subdivision = obj.modifiers.get(canvas_plane.SUBDIVISION_MODIFIER)
     if subdivision is None or subdivision.type != "SUBSURF":
         if subdivision is not None:
             obj.modifiers.remove(subdivision)
-        subdivision = obj.modifiers.new(canvas.SUBDIVISION_MODIFIER, "SUBSURF")
+        subdivision = obj.modifiers.new(canvas_plane.SUBDIVISION_MODIFIER, "SUBSURF")
     subdivision.subdivision_type = "SIMPLE"
     subdivision.levels = max(0, levels - 2)
     subdivision.render_levels = levels
-    displace = canvas.add_displace(obj, height_image, thickness)
+    displace = canvas_plane.add_displace(obj, height_image, thickness)
     displace.uv_layer = uv_map_name(obj)
     for modifier in (subdivision, displace):
         modifier.show_viewport = modifier.show_render = True
@@ -54,7 +54,7 @@ def remove_relief(obj):
     """Remove the relief modifiers Paint Object added (and Blender 4.2's adaptive subdivision flag)."""
     for modifier in relief_modifiers(obj):
         obj.modifiers.remove(modifier)
-    canvas.set_object_adaptive(None, obj, False)
+    canvas_plane.set_object_adaptive(None, obj, False)
 
 
 def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
@@ -74,7 +74,7 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
     obj[PAINTED_KEY] = painted.name
     remove_relief(obj)
     if adaptive:
-        canvas.add_adaptive_subdivision(scene, obj)
+        canvas_plane.add_adaptive_subdivision(scene, obj)
     elif not normal_map:
         add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size)
     show_painting(obj, True)

@@ -5,7 +5,7 @@ A folder painted by ``python -m core sequence`` (or Paint Animation) holds,
 for every frame N, ``color_NNNN.exr``, ``height_NNNN.exr`` and
 ``opacity_NNNN.exr`` (``normal_NNNN.exr`` when painted with normal maps)
 and a report.json that lists the frames. Its canvas is a still canvas
-(``canvas.canvas_from_images``: the same object, mesh, modifiers and
+(``canvas_plane.canvas_from_images``: the same object, mesh, modifiers and
 material, rebuilt in place with the user's transform, nodes and modifiers
 kept) whose images are Blender image sequences (``image.source ==
 'SEQUENCE'``) read by every image user of the canvas: the material's colour,
@@ -28,7 +28,7 @@ import os
 import bpy
 
 from .. import values
-from .canvas import PAINTING_DIR_KEY, canvas_from_images
+from .canvas_plane import PAINTING_DIR_KEY, canvas_from_images
 from .maps import CanvasError, load_images
 from .material import own_nodes
 
@@ -159,7 +159,7 @@ def set_frame_range(scene, frames):
 def build_animated_canvas(context, folder, width_cm, thickness_mm, method, frame_range=False):
     """Create or update the scene's animated canvas from the painted sequence in ``folder``; return the object.
 
-    width_cm, thickness_mm, method: as for ``canvas.build_canvas`` (method
+    width_cm, thickness_mm, method: as for ``canvas_plane.build_canvas`` (method
     'NORMAL_MAP' needs a sequence painted with normal maps). frame_range:
     also set the scene's frame range to the sequence's frames (the scene's
     range is left alone otherwise). Raises CanvasError (before changing

@@ -13,7 +13,7 @@ colour management (AgX, Filmic, a look...) stay as the user set them.
 import bpy
 from mathutils import Vector
 
-from .canvas import MAP_SIZE_KEY, ROLE_KEY, find_role, link_new_object
+from .canvas_plane import MAP_SIZE_KEY, ROLE_KEY, find_role, link_new_object
 
 CAMERA_NAME = "Paint Relief Camera"
 # Height of the camera above the canvas (metres beyond the canvas's larger side).

@@ -17,7 +17,7 @@ import bpy
 from mathutils import Vector
 
 from .. import values
-from .canvas import ROLE_KEY, find_role, link_new_object
+from .canvas_plane import ROLE_KEY, find_role, link_new_object
 
 KEY_NAME = "Paint Relief Key"
 FILL_NAME = "Paint Relief Fill"

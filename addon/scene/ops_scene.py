@@ -15,7 +15,7 @@ import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy.types import Operator
 
-from . import animated, camera, canvas, lighting
+from . import animated, camera, canvas_plane, lighting
 
 
 class _CanvasOperator:
@@ -25,7 +25,7 @@ class _CanvasOperator:
 
     @classmethod
     def poll(cls, context):
-        return canvas.find_role(context.scene, "canvas") is not None
+        return canvas_plane.find_role(context.scene, "canvas") is not None
 
 
 class PAINT_RELIEF_OT_build_canvas(Operator):
@@ -55,9 +55,9 @@ class PAINT_RELIEF_OT_build_canvas(Operator):
                                                      settings.thickness_mm, settings.displacement_method,
                                                      frame_range=self.frame_range)
             else:
-                obj = canvas.build_canvas(context, settings.painting_dir, settings.canvas_width_cm,
+                obj = canvas_plane.build_canvas(context, settings.painting_dir, settings.canvas_width_cm,
                                           settings.thickness_mm, settings.displacement_method)
-        except canvas.CanvasError as error:
+        except canvas_plane.CanvasError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
         except Exception as error:  # an unexpected failure still reaches the user as one line
@@ -97,8 +97,8 @@ class PAINT_RELIEF_OT_add_camera(_CanvasOperator, Operator):
     bl_label = "Add Camera"
 
     def execute(self, context):
-        target = canvas.find_role(context.scene, "canvas")
-        if canvas.MAP_SIZE_KEY not in target:
+        target = canvas_plane.find_role(context.scene, "canvas")
+        if canvas_plane.MAP_SIZE_KEY not in target:
             self.report({"ERROR"}, "Canvas {} has no map size: build the canvas again.".format(target.name))
             return {"CANCELLED"}
         settings = context.scene.paint_relief
@@ -114,10 +114,10 @@ class PAINT_RELIEF_OT_reload_maps(_CanvasOperator, Operator):
     bl_label = "Reload Maps"
 
     def execute(self, context):
-        target = canvas.find_role(context.scene, "canvas")
+        target = canvas_plane.find_role(context.scene, "canvas")
         try:
-            count = (animated.reload_maps if animated.is_animated(target) else canvas.reload_maps)(target)
-        except canvas.CanvasError as error:
+            count = (animated.reload_maps if animated.is_animated(target) else canvas_plane.reload_maps)(target)
+        except canvas_plane.CanvasError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
         self.report({"INFO"}, "Reloaded {} maps of {}".format(count, target.name))

@@ -125,18 +125,18 @@ def check_output_folder(folder):
 
 def _update_relief(self, context):
     """Live update: the scene's canvases and painted objects take the new paint thickness at once (no rebuild)."""
-    from ..scene import canvas
+    from ..scene import canvas_plane
 
     painted = [obj for obj in context.scene.objects if obj.get(values.PAINTED_MATERIAL_KEY)]
-    for obj in canvas.canvases(context.scene) + painted:
-        canvas.set_thickness(obj, self.thickness_mm / 1000.0)
+    for obj in canvas_plane.canvases(context.scene) + painted:
+        canvas_plane.set_thickness(obj, self.thickness_mm / 1000.0)
 
 
 def _update_lights(self, context):
     """Live update: the key and fill lights follow the azimuth and elevation at once (when they exist)."""
-    from ..scene import canvas, lighting
+    from ..scene import canvas_plane, lighting
 
-    if canvas.find_role(context.scene, "key_light") is not None:
+    if canvas_plane.find_role(context.scene, "key_light") is not None:
         lighting.aim_lights(context.scene, self.light_azimuth, self.light_elevation, self.light_strength)
 
 

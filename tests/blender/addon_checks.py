@@ -151,9 +151,9 @@ def main(work, render):
         settings.thickness_mm = 2.0
         settings.displacement_method = "MESH"
         result, error = run_op(ops.build_canvas)
-        from paint_relief.addon.scene import canvas
+        from paint_relief.addon.scene import canvas_plane
 
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         material = obj.active_material
         links = sorted({(l.from_node.bl_idname, l.from_socket.identifier, l.to_node.bl_idname, l.to_socket.identifier)
                         for l in material.node_tree.links})
@@ -190,9 +190,9 @@ def main(work, render):
         before = counts(bpy)
         settings.displacement_method = "CYCLES_ADAPTIVE"
         result, error = run_op(ops.build_canvas)
-        from paint_relief.addon.scene import canvas
+        from paint_relief.addon.scene import canvas_plane
 
-        canvases = [o.name for o in scene.objects if o.get(canvas.ROLE_KEY) == "canvas"]
+        canvases = [o.name for o in scene.objects if o.get(canvas_plane.ROLE_KEY) == "canvas"]
         obj = bpy.data.objects[canvases[0]]
         material = obj.active_material
         links = sorted({(l.from_node.bl_idname, l.from_socket.identifier, l.to_node.bl_idname, l.to_socket.identifier)
@@ -216,9 +216,9 @@ def main(work, render):
         had_normals = os.path.exists(os.path.join(out, "normal.exr"))
         settings.displacement_method = "NORMAL_MAP"
         result, error = run_op(ops.build_canvas)
-        from paint_relief.addon.scene import canvas
+        from paint_relief.addon.scene import canvas_plane
 
-        material = canvas.find_role(scene, "canvas").active_material
+        material = canvas_plane.find_role(scene, "canvas").active_material
         links = sorted({(l.from_node.bl_idname, l.from_socket.identifier, l.to_node.bl_idname, l.to_socket.identifier)
                         for l in material.node_tree.links})
         normals = read_exr(os.path.join(out, "normal.exr")) if os.path.exists(os.path.join(out, "normal.exr")) else None
@@ -249,9 +249,9 @@ def main(work, render):
         first = counts(bpy)
         results.append(run_op(ops.add_lights)[0])
         second = counts(bpy)
-        from paint_relief.addon.scene import canvas
+        from paint_relief.addon.scene import canvas_plane
 
-        key = canvas.find_role(scene, "key_light")
+        key = canvas_plane.find_role(scene, "key_light")
         direction = key.matrix_world.to_3x3() @ __import__("mathutils").Vector((0.0, 0.0, 1.0))
         settings.fill_light = False
         results.append(run_op(ops.add_lights)[0])
@@ -283,9 +283,9 @@ def main(work, render):
             # colour map's own values: it shows framing, orientation and the EXR colour
             # space. (Blender 5.0's bpy module writes no extra passes such as DiffCol into
             # a multilayer EXR here, so the Combined pass of an Emission shader is used.)
-            from paint_relief.addon.scene import canvas
+            from paint_relief.addon.scene import canvas_plane
 
-            material = canvas.find_role(scene, "canvas").active_material
+            material = canvas_plane.find_role(scene, "canvas").active_material
             emission = shade_colour_map(material, "ShaderNodeEmission", "Color", "Emission")
             emission.inputs["Strength"].default_value = 1.0
             for obj in scene.objects:

@@ -72,7 +72,7 @@ def main(work):
     bpy = load_extension(work)
     import paint_relief
     from paint_relief import core
-    from paint_relief.addon.scene import animated, canvas
+    from paint_relief.addon.scene import animated, canvas_plane
     from paint_relief.core.files import reading
 
     frames_dir = os.path.join(work, "frames")
@@ -100,13 +100,13 @@ def main(work):
         settings.thickness_mm = THICKNESS_MM
         settings.displacement_method = "MESH"
         result, error = run_op(ops.build_canvas)
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         material = obj.active_material
         nodes = {node.label: {"file": os.path.basename(node.image.filepath), "source": node.image.source,
                               "duration": node.image_user.frame_duration, "start": node.image_user.frame_start,
                               "offset": node.image_user.frame_offset, "auto": node.image_user.use_auto_refresh}
                  for node in material.node_tree.nodes if node.bl_idname == "ShaderNodeTexImage"}
-        texture = obj.modifiers[canvas.DISPLACE_MODIFIER].texture
+        texture = obj.modifiers[canvas_plane.DISPLACE_MODIFIER].texture
         return {"result": result, "error": error, "nodes": nodes, "sequence": list(obj[animated.SEQUENCE_KEY]),
                 "displace": {"file": os.path.basename(texture.image.filepath), "source": texture.image.source,
                              "duration": texture.image_user.frame_duration,
@@ -116,7 +116,7 @@ def main(work):
 
     @check
     def heights_follow_the_frame():
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         return {str(frame): heights_at(obj, frame, (11, 12, 13)) for frame in (10, 11, 12, 13, 17)}
 
     @check
@@ -126,7 +126,7 @@ def main(work):
 
     @check
     def rebuild_keeps_the_users_changes():
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         obj.location = (0.1, -0.2, 0.3)
         obj.rotation_euler = (0.2, 0.0, 0.5)
         obj.scale = (1.5, 1.5, 1.5)
@@ -137,7 +137,7 @@ def main(work):
         before = {"matrix": [value for row in obj.matrix_basis for value in row], "objects": len(bpy.data.objects),
                   "materials": len(bpy.data.materials), "images": len(bpy.data.images)}
         result, error = run_op(ops.build_canvas)
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         after = {"matrix": [value for row in obj.matrix_basis for value in row], "objects": len(bpy.data.objects),
                  "materials": len(bpy.data.materials), "images": len(bpy.data.images)}
         colour = next(node for node in obj.active_material.node_tree.nodes if node.label == "Colour")
@@ -151,7 +151,7 @@ def main(work):
     def reload_takes_frames_painted_since():
         core.paint_sequence_files([frames_dir], sequence, params)  # goes on with frame 4
         result, error = run_op(ops.reload_maps)
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         return {"result": result, "error": error, "sequence": list(obj[animated.SEQUENCE_KEY]),
                 "durations": sorted({user.frame_duration for user in animated.image_users(obj)}),
                 "heights": heights_at(obj, 14, (13, 14))}
@@ -171,7 +171,7 @@ def main(work):
             found[name] = {"result": result, "error": error, "changed": before != after}
         settings.painting_dir = sequence
         settings.displacement_method = "MESH"
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         found["canvas_still_a_sequence"] = all(user.frame_duration == 4 for user in animated.image_users(obj))
         return found
 
@@ -183,7 +183,7 @@ def main(work):
         settings.painting_dir = normals
         settings.displacement_method = "NORMAL_MAP"
         result, error = run_op(ops.build_canvas)
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         readers = sorted((os.path.basename(image.filepath), image.source, user.frame_duration, user.frame_start)
                          for image, user in animated.image_readers(obj))
         modifiers = [m.type for m in obj.modifiers]
@@ -196,7 +196,7 @@ def main(work):
     def colour_renders_follow_the_frame():
         # The colour map drives an Emission shader of strength 1 in a black world, so the render's scene-linear
         # pixels are the colour map's values at the frame rendered.
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         obj.location, obj.rotation_euler, obj.scale = (0, 0, 0), (0, 0, 0), (1, 1, 1)
         obj.modifiers.remove(obj.modifiers["My Bevel"])
         settings.camera_match_resolution = True

@@ -10,7 +10,7 @@ The repository is loaded as the package ``paint_relief`` (as
 sample_scenes/compare.py loads it) and registered. Checks:
 
 calibration  a painted canvas with its relief switched off
-             (``canvas.set_relief``), its surface a Lambertian Diffuse BSDF of
+             (``canvas_plane.set_relief``), its surface a Lambertian Diffuse BSDF of
              the colour map, lit only by a uniform white world of radiance 1:
              the outgoing radiance is then exactly the albedo, so the render
              must reproduce color.exr. Rendered with the comparison's own
@@ -81,7 +81,7 @@ def main(work):
     load_package()
     from paint_relief import core
     from paint_relief.addon.comparison import compare
-    from paint_relief.addon.scene import canvas
+    from paint_relief.addon.scene import canvas_plane
     from paint_relief.core.colour import linear_to_srgb, luminance, srgb_to_linear
     from paint_relief.core.files import reading, writing
     from paint_relief.core.lighting import bump_lighting
@@ -105,9 +105,9 @@ def main(work):
         assert ops.build_canvas() == {"FINISHED"}
         settings.camera_match_resolution = settings.camera_standard_view = True
         assert ops.add_camera() == {"FINISHED"}
-        obj = canvas.find_role(scene, "canvas")
-        canvas.set_relief(obj, False)
-        modifier_strength = obj.modifiers[canvas.DISPLACE_MODIFIER].strength
+        obj = canvas_plane.find_role(scene, "canvas")
+        canvas_plane.set_relief(obj, False)
+        modifier_strength = obj.modifiers[canvas_plane.DISPLACE_MODIFIER].strength
         # A Lambertian surface of the colour map (no specular at all) ...
         diffuse = shade_colour_map(obj.active_material, "ShaderNodeBsdfDiffuse", "Color", "BSDF")
         diffuse.inputs["Roughness"].default_value = 0.0
@@ -123,13 +123,13 @@ def main(work):
         path = os.path.join(work, "calibration.exr")
         compare.render_still(scene, path)
         compare.restore(previous)
-        canvas.set_relief(obj, True)
+        canvas_plane.set_relief(obj, True)
 
         rendered = reading.read_exr(path)[0][..., :3]
         expected = reading.read_exr(os.path.join(painted, "color.exr"))[0][..., :3]
         out = {"size": [rendered.shape[1], rendered.shape[0]], "map_size": [expected.shape[1], expected.shape[0]],
                "flat_displace_strength": modifier_strength,
-               "relief_back_on": obj.modifiers[canvas.DISPLACE_MODIFIER].strength}
+               "relief_back_on": obj.modifiers[canvas_plane.DISPLACE_MODIFIER].strength}
         if rendered.shape == expected.shape:
             a, b = linear_to_srgb(rendered), linear_to_srgb(expected)
             out["psnr_srgb"] = float(10 * np.log10(1.0 / max(float(np.mean((a - b) ** 2)), 1e-12)))
@@ -166,10 +166,10 @@ def main(work):
         assert ops.add_lights() == {"FINISHED"}
         settings.camera_match_resolution = settings.camera_standard_view = True
         assert ops.add_camera() == {"FINISHED"}
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         renders = os.path.join(work, "ramp_renders")
         azimuths = [0.0, 180.0]
-        key = canvas.find_role(scene, "key_light")
+        key = canvas_plane.find_role(scene, "key_light")
         key_before = list(key.rotation_quaternion)
         compare.render_sweep(bpy.context, obj, azimuths, RAMP_ELEVATION, renders, RAMP_SAMPLES)
         relief_px = compare.relief_pixels(obj)
@@ -212,7 +212,7 @@ def main(work):
         settings.compare_output_dir = os.path.join(blocker, "comparison")
         bad_result, bad_error = run_op(ops.render_comparison)
         settings.compare_output_dir = out_dir
-        obj = canvas.find_role(scene, "canvas")
+        obj = canvas_plane.find_role(scene, "canvas")
         bpy.data.objects.remove(obj)
         poll_without_canvas = ops.render_comparison.poll()
         return {"result": result, "error": error, "files": files, "renders": renders,

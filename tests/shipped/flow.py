@@ -172,7 +172,7 @@ def main(zip_path, work):
             found["chart_title_dark_pixels"] = int((chart[5:30, 70:400].max(axis=2) < 0.5).sum())
         return found
 
-    canvas_mod = import_module(MODULE + ".addon.scene.canvas")
+    canvas_mod = import_module(MODULE + ".addon.scene.canvas_plane")
     jobs = import_module(MODULE + ".addon.painting.jobs")
     cli_command = import_module(MODULE + ".addon.cli_command")
 
