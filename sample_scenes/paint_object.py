@@ -291,7 +291,7 @@ def render_seam_steps(core, pictures, views, depth_paths, count_seams):
             | {"samples": {kind: len(values) for kind, values in found.items()}} for film, found in steps.items()}
 
 
-def film_figures(core, films, out, views, count_seams):
+def film_statistics(core, films, out, views, count_seams):
     """Each film's warping error from each view to the next by the relit film's Vector pass (the camera moves
     alike in every film) and its steps across seams and inner edges (``render_seam_steps`` of the edge samples
     ``views``); its PNG frames into ``out``/turntable/<film>/ and relit | paper side by side."""
@@ -375,10 +375,10 @@ def main(argv):
         films["paper"] = render_film(scene, out / "renders" / "paper")
         object_material.show_painting(obj, True)
         step("figures")
-        figures = film_figures(core, films, out, views, len(seams))
+        statistics = film_statistics(core, films, out, views, len(seams))
         summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views, "relief": args.relief,
                    "stroke_mm": report["stroke_mm"], "islands": report["islands"],
-                   "texture_seam_steps": report["seam_steps"], **figures}
+                   "texture_seam_steps": report["seam_steps"], **statistics}
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")
         step("blend")
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)

@@ -15,7 +15,7 @@ from tiny_shot import FIRST, FRAMES, shot
 import core
 from core.colour import linear_to_srgb
 from core.errors import InputError
-from core.evaluation.film import film_figures, resize_motion, run_film
+from core.evaluation.film import film_statistics, resize_motion, run_film
 from core.evaluation.film_files import frame_file
 from core.files import reading, writing
 from core.lighting import paper_lighting
@@ -51,13 +51,13 @@ def test_resize_motion_measures_in_the_new_pixels():
     assert np.allclose(small[..., 0], 3.0) and np.allclose(small[..., 1], -1.5)
 
 
-def test_film_figures_give_ratios_to_the_footage():
+def test_film_statistics_give_ratios_to_the_footage():
     errors = {"footage": [0.001, 0.002], "relit": [0.002, 0.002], "paper": [0.003, 0.006], "painting": [0.001, 0.001]}
-    figures = film_figures(errors, [11, 12])
-    assert figures["footage"]["mean"] == pytest.approx(0.0015)
-    assert figures["relit"]["ratio"] == pytest.approx(0.002 / 0.0015)
-    assert [e["ratio"] for e in figures["paper"]["per_frame"]] == pytest.approx([3.0, 3.0])
-    assert [e["frame"] for e in figures["relit"]["per_frame"]] == [11, 12]
+    statistics = film_statistics(errors, [11, 12])
+    assert statistics["footage"]["mean"] == pytest.approx(0.0015)
+    assert statistics["relit"]["ratio"] == pytest.approx(0.002 / 0.0015)
+    assert [e["ratio"] for e in statistics["paper"]["per_frame"]] == pytest.approx([3.0, 3.0])
+    assert [e["frame"] for e in statistics["relit"]["per_frame"]] == [11, 12]
 
 
 @pytest.fixture(scope="module")

@@ -203,13 +203,13 @@ def main(argv, prog=None):
         sys.stderr.write(command_line.sentence(error, parser.prog) + "\n")
         return 1
 
-    figures = result["warping_error"]
+    errors = result["warping_error"]
     log.seconds(started)
     log.say("Cycles took {:.2f} s per frame at {} x {} px.".format(render["seconds_per_frame"], *size))
     log.say("Warping error: footage {:.5f}, relit {:.5f} ({:.2f}x), paper {:.5f} ({:.2f}x), unlit painting {:.5f} "
-            "({:.2f}x).".format(figures["footage"]["mean"], figures["relit"]["mean"], figures["relit"]["ratio"],
-                                figures["paper"]["mean"], figures["paper"]["ratio"], figures["painting"]["mean"],
-                                figures["painting"]["ratio"]))
+            "({:.2f}x).".format(errors["footage"]["mean"], errors["relit"]["mean"], errors["relit"]["ratio"],
+                                errors["paper"]["mean"], errors["paper"]["ratio"], errors["painting"]["mean"],
+                                errors["painting"]["ratio"]))
     log.say("Films: {0}/relit, {0}/paper, {0}/animation.gif{1}; figures: {0}/animation.md, {0}/animation.json; "
             "the scene in {0}/scene.blend".format(out_dir, ", {}/animation.mp4".format(out_dir) if movie else ""))
     return 0

@@ -85,8 +85,8 @@ def exposure(flat_linear: np.ndarray, unlit_linear: np.ndarray) -> float:
     return float(luminance(flat_linear).mean() / max(float(luminance(unlit_linear).mean()), 1e-6))
 
 
-def figures(s3d: np.ndarray, s2d: np.ndarray, mask: np.ndarray, lit_srgb: np.ndarray,
-            relief_srgb: np.ndarray) -> Dict[str, float]:
+def shading_measures(s3d: np.ndarray, s2d: np.ndarray, mask: np.ndarray, lit_srgb: np.ndarray,
+                     relief_srgb: np.ndarray) -> Dict[str, float]:
     """Pearson r and RMS difference of two shadings over ``mask``; SSIM of the lit image and the relief render."""
     return {"pearson": round(pearson(s3d[mask], s2d[mask]), 5),
             "rms": round(float(np.sqrt(np.mean((s3d[mask] - s2d[mask]) ** 2))), 5),
@@ -113,7 +113,7 @@ def compare_sweep(maps: Dict[str, np.ndarray], renders_dir: Path, azimuths_deg: 
         for model in MODELS:
             lit = paper if model == "paper" else lit_2d(model, maps, az, elevation_deg, relief_px)
             s2d = shading(srgb_to_linear(lit), unlit)
-            entry["models"][model] = figures(s3d, s2d, mask, lit, relief_srgb)
+            entry["models"][model] = shading_measures(s3d, s2d, mask, lit, relief_srgb)
         per_azimuth.append(entry)
         frames[az] = {"relief_srgb": relief_srgb, "s3d": s3d}
     return per_azimuth, frames, paper
@@ -178,11 +178,11 @@ def run_comparison(painting_dir, renders_dir, azimuths_deg: Sequence[float], ele
     bump = lit_2d("bump", maps, best_az, elevation_deg, relief_px)
     best_frame = frames[best_az]
     s_paper = shading(srgb_to_linear(paper), maps["linear"])
-    figures_at_best = per_azimuth[best]["models"]
+    measures_at_best = per_azimuth[best]["models"]
     sheet = contact_sheet([
         ("Unlit painting", maps["srgb"]),
-        (f"Paper 2-D lighting, r = {figures_at_best['paper']['pearson']:+.2f}", paper),
-        (f"Bump 2-D, light {best_az:g} deg, r = {figures_at_best['bump']['pearson']:+.2f}", bump),
+        (f"Paper 2-D lighting, r = {measures_at_best['paper']['pearson']:+.2f}", paper),
+        (f"Bump 2-D, light {best_az:g} deg, r = {measures_at_best['bump']['pearson']:+.2f}", bump),
         (f"Cycles relief, light {best_az:g} deg", best_frame["relief_srgb"]),
         ("S3D - S2D(paper): red +, blue -", signed_map(best_frame["s3d"] - s_paper)),
     ], panel_height=min(360, maps["height"].shape[0]), columns=5)

@@ -149,12 +149,12 @@ def side_by_side(number: int, footage: np.ndarray, relit: np.ndarray, paper: np.
                          panel_height=footage.shape[0], columns=3)
 
 
-def film_figures(errors: Dict[str, List[float]], pairs: List[int]) -> dict:
+def film_statistics(errors: Dict[str, List[float]], pairs: List[int]) -> dict:
     """The warping errors of every film: per pair of frames (named by its first frame) with their ratio to the
     footage's, the mean over the pairs and its ratio to the footage's mean."""
     footage = errors["footage"]
     footage_mean = mean_over_pairs(footage)
-    figures = {}
+    statistics = {}
     for film in FILMS:
         mean = mean_over_pairs(errors[film])
         entry = {"mean": mean, "per_frame": [
@@ -163,8 +163,8 @@ def film_figures(errors: Dict[str, List[float]], pairs: List[int]) -> dict:
             for i, (frame, value) in enumerate(zip(pairs, errors[film], strict=True))]}
         if film != "footage":
             entry["ratio"] = mean / footage_mean if footage_mean else float("nan")
-        figures[film] = entry
-    return figures
+        statistics[film] = entry
+    return statistics
 
 
 def run_film(painted_dir, relit_dir, out_dir, azimuth_deg: float, elevation_deg: float,
@@ -219,7 +219,7 @@ def run_film(painted_dir, relit_dir, out_dir, azimuth_deg: float, elevation_deg:
     result = {"painted_dir": str(painted_dir.resolve()), "frames": frames, "film_size": list(size),
               "painted_size": [int(report["width"]), int(report["height"])], "motion": report.get("motion"),
               "light": {"azimuth_deg": float(azimuth_deg), "elevation_deg": float(elevation_deg)},
-              "warping_error": film_figures(errors, frames[:-1]),
+              "warping_error": film_statistics(errors, frames[:-1]),
               "painter_warping_error": report.get("warping_error"),
               "render": dict(render or {}),
               "seconds": {"paper_per_frame": round(paper_seconds / len(frames), 4),
@@ -236,7 +236,7 @@ def _ratio_words(ratio: float) -> str:
 
 def markdown(result: dict) -> str:
     """animation.md: the warping errors per frame as a table and one paragraph reading them."""
-    figures = result["warping_error"]
+    statistics = result["warping_error"]
     light = result["light"]
     render = result.get("render", {})
     width, height = result["film_size"]
@@ -246,11 +246,11 @@ def markdown(result: dict) -> str:
              f"squared difference of a frame and the next warped back by the painter's motion, {result['motion']}, "
              "over the pixels visible in both; sRGB in [0, 1]) from each frame to the next:", "",
              "| frame | footage | relit (Cycles) | paper (Eq. 6-7) | unlit painting |", "| ---: | ---: | ---: | ---: | ---: |"]
-    for i, entry in enumerate(figures["footage"]["per_frame"]):
+    for i, entry in enumerate(statistics["footage"]["per_frame"]):
         lines.append(f"| {entry['frame']} | " + " | ".join(
-            f"{figures[film]['per_frame'][i]['error']:.5f}" for film in FILMS) + " |")
-    lines.append("| mean | " + " | ".join(f"{figures[film]['mean']:.5f}" for film in FILMS) + " |")
-    relit, paper, painting = figures["relit"], figures["paper"], figures["painting"]
+            f"{statistics[film]['per_frame'][i]['error']:.5f}" for film in FILMS) + " |")
+    lines.append("| mean | " + " | ".join(f"{statistics[film]['mean']:.5f}" for film in FILMS) + " |")
+    relit, paper, painting = statistics["relit"], statistics["paper"], statistics["painting"]
     seconds = render.get("seconds_per_frame")
     timing = (f" Cycles rendered a frame in {seconds:.1f} s ({render.get('samples', '?')} samples)."
               if isinstance(seconds, (int, float)) else "")
@@ -265,7 +265,7 @@ def markdown(result: dict) -> str:
                     "than the paper's turning light.")
     lines += ["", f"Under one raking light (azimuth {light['azimuth_deg']:g} degrees, elevation "
               f"{light['elevation_deg']:g} degrees), the relit film's warping error is {relit['mean']:.5f}, "
-              f"{_ratio_words(relit['ratio'])} ({figures['footage']['mean']:.5f}); the paper's 2-D lighting gives "
+              f"{_ratio_words(relit['ratio'])} ({statistics['footage']['mean']:.5f}); the paper's 2-D lighting gives "
               f"{paper['mean']:.5f}, {_ratio_words(paper['ratio'])}, and the unlit painting {painting['mean']:.5f} "
               f"({_ratio_words(painting['ratio'])}). {reading_}{timing}", ""]
     return "\n".join(lines)
