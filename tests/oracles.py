@@ -42,12 +42,14 @@ def same_bytes(folder: Path, other: Path, leave_out: Iterable[str] = ("report.js
     return mine
 
 
-def one_sentence(message: str) -> str:
+def one_sentence(message: str, naming=None) -> str:
     """Assert that ``message`` (an error's text; an operator's report, which Blender prefixes "Error: " headless)
-    is one sentence: one line ending in a full stop, no second sentence, no traceback. Return the sentence."""
+    is one sentence: one line ending in a full stop, no second sentence, no traceback, naming ``naming`` (a path)
+    when given. Return the sentence."""
     text = message.strip()
     text = text[len("Error: "):] if text.startswith("Error: ") else text
     assert text.endswith(".") and "\n" not in text and "Traceback" not in text, message
+    assert naming is None or str(naming) in text, message
     assert not re.search(r"[.!?]\s+[A-Z]", text), message
     return text
 
