@@ -59,3 +59,13 @@ def plain_cause(exc: OSError, folder=None) -> str:
     if exc.errno in _CAUSES:
         return _CAUSES[exc.errno]
     return (exc.strerror or str(exc) or "an unknown error").strip().rstrip(".").lower()
+
+
+def reading_error(what: str, exc: OSError, kind: str) -> InputError:
+    """The one-sentence InputError of ``exc``, a failure to open or read the file ``what`` names ("The mesh
+    PATH"): it does not exist, it is a folder and not ``kind`` ("an OBJ file"), or why it cannot be read."""
+    if isinstance(exc, FileNotFoundError):
+        return InputError(f"{what} does not exist.")
+    if isinstance(exc, IsADirectoryError):
+        return InputError(f"{what} is a folder, not {kind}.")
+    return InputError(f"{what} cannot be read: {plain_cause(exc)}.")

@@ -68,7 +68,7 @@ from typing import Dict, Iterator, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from ..errors import InputError, OutputError, plain_cause
+from ..errors import InputError, OutputError, plain_cause, reading_error
 from .image_files import PathLike
 from .staging import fsync_folder
 from .writing import atomic_path
@@ -372,12 +372,8 @@ class LivesFile:
         """The file opened for reading; InputError when it cannot be."""
         try:
             return open(self.path, "rb")
-        except FileNotFoundError:
-            raise InputError(f"The lives file {self.path} does not exist.") from None
-        except IsADirectoryError:
-            raise InputError(f"The lives file {self.path} is a folder, not a file.") from None
         except OSError as exc:
-            raise InputError(f"The lives file {self.path} cannot be read: {plain_cause(exc)}.") from None
+            raise reading_error(f"The lives file {self.path}", exc, "a file") from None
 
     def _scan(self, f, length: Optional[int]) -> Iterator[Tuple[int, RecordHeader]]:
         """(offset, header) of each complete record of the open file ``f`` within ``length`` bytes."""

@@ -14,7 +14,7 @@ from typing import List, NamedTuple
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, reading_error
 
 
 class SurfaceMesh(NamedTuple):
@@ -45,12 +45,8 @@ def read_obj(path) -> SurfaceMesh:
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8", errors="replace")
-    except FileNotFoundError:
-        raise InputError(f"The mesh {path} does not exist.") from None
-    except IsADirectoryError:
-        raise InputError(f"The mesh {path} is a folder, not an OBJ file.") from None
     except OSError as exc:
-        raise InputError(f"The mesh {path} cannot be read: {exc.strerror or exc}.") from None
+        raise reading_error(f"The mesh {path}", exc, "an OBJ file") from None
     positions: List[List[float]] = []
     coordinates: List[List[float]] = []
     faces: List[List[tuple]] = []
