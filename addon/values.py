@@ -26,15 +26,11 @@ def parse_sizes(text):
     """
     from ..core.params import MAX_STROKE_SIZE
 
-    parts = [p for p in text.replace(",", " ").split() if p]
-    if not parts:
+    entries = _entries(text, int, "Stroke size {!r} is not a whole number of pixels.")
+    if not entries:
         raise ValueError("Stroke sizes are empty: give sizes in pixels such as 64,32,16,8,4.")
     sizes = []
-    for part in parts:
-        try:
-            value = int(part)
-        except ValueError:
-            raise ValueError("Stroke size {!r} is not a whole number of pixels.".format(part)) from None
+    for value in entries:
         if value <= 0:
             raise ValueError("Stroke size {} must be positive.".format(value))
         if value > MAX_STROKE_SIZE:
@@ -44,6 +40,18 @@ def parse_sizes(text):
             raise ValueError("Stroke size {} is given twice: give each size once.".format(value))
         sizes.append(value)
     return tuple(sizes)
+
+
+def _entries(text, convert, not_one):
+    """The entries of ``text``, separated by commas and/or spaces, each converted by ``convert``; ValueError with
+    the sentence ``not_one`` (formatted with the entry) for an entry ``convert`` refuses."""
+    values = []
+    for part in text.replace(",", " ").split():
+        try:
+            values.append(convert(part))
+        except ValueError:
+            raise ValueError(not_one.format(part)) from None
+    return values
 
 
 def canvas_size(map_width, map_height, width_cm):
@@ -306,16 +314,8 @@ def relief_levels(faces, texture_size, most=6):
 def parse_widths(text):
     """Stroke widths in millimetres such as ``"32, 16 8"`` as a tuple of positive floats, or None for an empty
     text (the painter's default). Raises ValueError with a sentence naming the bad entry."""
-    parts = [p for p in text.replace(",", " ").split() if p]
-    if not parts:
-        return None
-    widths = []
-    for part in parts:
-        try:
-            value = float(part)
-        except ValueError:
-            raise ValueError("Stroke width {!r} is not a number of millimetres.".format(part)) from None
+    widths = _entries(text, float, "Stroke width {!r} is not a number of millimetres.")
+    for value in widths:
         if not value > 0 or value != value or value == float("inf"):
-            raise ValueError("Stroke width {} must be a positive number of millimetres.".format(part))
-        widths.append(value)
-    return tuple(widths)
+            raise ValueError("Stroke width {:g} must be a positive number of millimetres.".format(value))
+    return tuple(widths) or None

@@ -216,6 +216,23 @@ def sweep_steps(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, s
         restore(previous)
 
 
+def run_steps(steps, progress, cancel, cancelled, before=None):
+    """Run the render generator ``steps`` (it yields (done, total, message) before each render) to its end, closed
+    whatever happens (its ``finally`` restores the scene): ``before()`` first at each step when given, then
+    ``cancel()`` asked and, when it returns True, the exception ``cancelled(done, total)`` raised, else
+    ``progress(done / total, message)``."""
+    try:
+        for done, total, message in steps:
+            if before is not None:
+                before()
+            if cancel is not None and cancel():
+                raise cancelled(done, total)
+            if progress is not None:
+                progress(done / total, message)
+    finally:
+        steps.close()
+
+
 def render_sweep(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, samples, progress=None, cancel=None):
     """Run :func:`sweep_steps` to the end; return the list of files written.
 
@@ -224,14 +241,8 @@ def render_sweep(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, 
     (scene restored) and SweepError says so.
     """
     steps = sweep_steps(context, canvas_obj, azimuths_deg, elevation_deg, renders_dir, samples)
-    try:
-        for done, total, message in steps:
-            if cancel is not None and cancel():
-                raise SweepError("The light sweep was cancelled after {} of {} renders.".format(done, total))
-            if progress is not None:
-                progress(done / total, message)
-    finally:
-        steps.close()
+    run_steps(steps, progress, cancel, lambda done, total: SweepError(
+        "The light sweep was cancelled after {} of {} renders.".format(done, total)))
     if progress is not None:
         progress(1.0, "Rendered {} images".format(2 * len(azimuths_deg)))
     return [os.path.join(renders_dir, values.render_file_name(kind, a)) for a in azimuths_deg for kind in ("relief", "flat")]

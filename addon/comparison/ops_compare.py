@@ -76,7 +76,8 @@ def prepare(context):
         raise compare.SweepError("The scene has no Paint Relief canvas: build the canvas first.")
     if canvas_plane.MAP_SIZE_KEY not in canvas_obj:
         raise compare.SweepError("Canvas {} has no map size: build the canvas again.".format(canvas_obj.name))
-    painting_dir = canvas_obj.get(canvas_plane.PAINTING_DIR_KEY) or os.path.normpath(bpy.path.abspath(settings.painting_dir))
+    painting_dir = (canvas_obj.get(canvas_plane.PAINTING_DIR_KEY)
+                    or os.path.normpath(bpy.path.abspath(settings.painting_dir)))
     for name in COMPARISON_MAPS:
         path = os.path.join(painting_dir, name)
         if not os.path.isfile(path):

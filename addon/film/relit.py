@@ -19,7 +19,7 @@ import time
 
 import bpy
 
-from ..comparison.compare import cycles_attributes, render_still, restore
+from ..comparison.compare import cycles_attributes, render_still, restore, run_steps
 from ..scene import animated, canvas_plane
 
 MOVIE_FPS = 10
@@ -126,15 +126,8 @@ def render_film(context, canvas_obj, relit_dir, samples, size, denoise=False, pr
                 frames[done - 1], done, len(frames), seconds[-1]))
 
     steps = film_steps(context, canvas_obj, relit_dir, samples, size, denoise, seconds)
-    try:
-        for done, total, message in steps:
-            rendered()
-            if cancel is not None and cancel():
-                raise FilmError("The film was cancelled after {} of {} frames.".format(done, total))
-            if progress is not None:
-                progress(done / total, message)
-    finally:
-        steps.close()
+    run_steps(steps, progress, cancel, lambda done, total: FilmError(
+        "The film was cancelled after {} of {} frames.".format(done, total)), before=rendered)
     rendered()
     return seconds
 

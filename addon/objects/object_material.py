@@ -27,8 +27,8 @@ PAINTED_KEY = values.PAINTED_MATERIAL_KEY
 
 def relief_modifiers(obj):
     """The object's relief modifiers that Paint Object added (Subdivision, Displace), those present."""
-    return [m for m in (obj.modifiers.get(canvas_plane.SUBDIVISION_MODIFIER), obj.modifiers.get(canvas_plane.DISPLACE_MODIFIER))
-            if m is not None]
+    names = (canvas_plane.SUBDIVISION_MODIFIER, canvas_plane.DISPLACE_MODIFIER)
+    return [m for m in (obj.modifiers.get(name) for name in names) if m is not None]
 
 
 def add_relief(obj, height_image, thickness, texture_size):

@@ -56,7 +56,7 @@ class PAINT_RELIEF_OT_build_canvas(Operator):
                                                      frame_range=self.frame_range)
             else:
                 obj = canvas_plane.build_canvas(context, settings.painting_dir, settings.canvas_width_cm,
-                                          settings.thickness_mm, settings.displacement_method)
+                                                settings.thickness_mm, settings.displacement_method)
         except canvas_plane.CanvasError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
