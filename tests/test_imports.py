@@ -8,6 +8,7 @@ package itself.
 """
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -214,3 +215,16 @@ def test_core_never_imports_addon_or_bpy():
             names |= {(n.module or "").split(".")[0] for n in ast.walk(tree)
                       if isinstance(n, ast.ImportFrom) and n.level == 0}
             assert not names & {"bpy", "addon"}, f"{name} imports {names & {'bpy', 'addon'}}"
+
+
+def test_the_architecture_names_these_layers_in_this_order():
+    """docs/ARCHITECTURE.md's rules 1 and 7 name the layers core and addon are held to here, lowest first, and
+    addon's base modules: a package added to one and not the other fails here."""
+    text = " ".join((ROOT / "docs" / "ARCHITECTURE.md").read_text(encoding="utf-8").split())
+    core_layers = re.search(r"Lowest first: (.*?) \(cli", text).group(1)
+    assert [name.strip() for name in core_layers.split(",")] == [name for name, _ in CORE_LAYERS]
+    addon_layers = re.search(r"lowest first: (.*?) \(`cli_command`", text).group(1)
+    base = re.search(r"base \((.*?)\)", addon_layers).group(1)
+    assert {"addon." + name.strip(" `") for name in base.split(",")} == ADDON_LAYERS[0][1]
+    names = re.sub(r"\([^)]*\)", "", addon_layers).split(",")
+    assert [name.strip(" `/") for name in names] == [name for name, _ in ADDON_LAYERS]
