@@ -226,6 +226,19 @@ def test_a_bad_source_or_folder_is_one_sentence_and_writes_nothing(results):
 
 
 @pytest.mark.blender
+def test_paint_and_paint_object_end_alike_finished_or_cancelled(results):
+    step = _step(results, "scene_jobs_end", painter=True)
+    assert set(step) == {"paint finished", "paint cancelled", "paint_object finished", "paint_object cancelled"}
+    for case, found in step.items():
+        assert not found["running"] and found["status"] is None, (case, found)
+        assert found["progress"][-2:] == ["timer removed", "end"], (case, found)
+        assert not found["scratch_left"], (case, found)
+        expected = ["FINISHED"] if case.endswith("finished") else ["RUNNING_MODAL"]
+        assert found["outcome"] == expected, (case, found)
+    assert any("Painted" in text for _, text in step["paint_object finished"]["reports"]), step
+
+
+@pytest.mark.blender
 def test_only_an_installed_extensions_folder_is_refused(results):
     """A checkout loaded by path (as `make demo` loads it) may write into its own out/; the same folder is refused
     while one of Blender's extension repositories holds the checkout, which Blender would delete on removal."""

@@ -493,6 +493,44 @@ def main(work):
         return found
 
     @timed
+    def scene_jobs_end():
+        """Paint's and Paint Object's interactive path (``ModalDriver``; their end is jobs.SceneJob's) run to its
+        end, and ended by Blender while it paints (``cancel``, as when the file closes): either way the scene may
+        paint again, the timer and the progress bar are gone, the status text is cleared, and Paint Object's
+        scratch folder is removed."""
+        if not painter:
+            return {"skipped": missing}
+        from paint_relief.addon.objects import ops_object
+        from paint_relief.addon.painting import ops_paint
+
+        scene = build_scene(bpy, work)
+        settings = scene.paint_relief
+        photo = os.path.join(work, "modal", "photo.png")
+        write_frame(bpy, photo, 1)
+        settings.image_path = settings.object_texture_path = photo
+        settings.object_texture_size = "1024"
+        ball = bpy.data.objects["Sphere"]
+        ball.data.materials.clear()  # no Base Color image: the texture comes from object_texture_path
+        bpy.context.view_layer.objects.active = ball
+        found = {}
+        for name, operator in (("paint", ops_paint.PAINT_RELIEF_OT_paint),
+                               ("paint_object", ops_object.PAINT_RELIEF_OT_paint_object)):
+            for how in ("finished", "cancelled"):
+                settings.output_dir = settings.object_output_dir = os.path.join(work, "modal", name + "_" + how)
+                driver = ModalDriver(bpy, ops_paint_shot, operator)
+                if how == "finished":
+                    driver.run()
+                else:
+                    driver.outcome = sorted(driver.operator.begin_modal(driver.context))
+                    driver.operator.cancel(driver.context)
+                job = getattr(driver.operator, "_job", None)
+                found["{} {}".format(name, how)] = {
+                    "outcome": driver.outcome, "running": jobs.is_running(scene), "progress": driver.progress[-2:],
+                    "status": driver.texts[-1] if driver.texts else "never set", "reports": driver.reports,
+                    "scratch_left": job is not None and os.path.exists(job.scratch)}
+        return found
+
+    @timed
     def extension_folder_guard():
         """The output folder rule as the operators apply it (settings/properties.check_output_folder): a folder in
         the checkout the package links to is refused while an extension repository holds the checkout, and free
@@ -601,13 +639,13 @@ class _Workspace:
 
 
 class ModalDriver:
-    """Paint Animation's interactive path without a window: the operator's own ``begin_modal`` and
-    ``modal`` methods, called with the events a window sends (a timer event every few milliseconds, Esc when
-    ``stop_when()`` first turns True) and a window manager and workspace that record the progress bar and
-    the status text."""
+    """A long operator's interactive path without a window (Paint Animation's unless ``operator``, the class, is
+    given): the operator's own ``begin_modal`` and ``modal`` methods, called with the events a window sends (a
+    timer event every few milliseconds, Esc when ``stop_when()`` first turns True) and a window manager and
+    workspace that record the progress bar and the status text."""
 
-    def __init__(self, bpy, ops_paint_shot):
-        operator = ops_paint_shot.PAINT_RELIEF_OT_paint_animation
+    def __init__(self, bpy, ops_paint_shot, operator=None):
+        operator = operator or ops_paint_shot.PAINT_RELIEF_OT_paint_animation
         own = {name: value for name, value in vars(operator).items() if not name.startswith(("__", "bl_"))}
         self.operator = type("Operator", tuple(base for base in operator.__bases__ if base is not bpy.types.Operator),
                              own)()
@@ -617,6 +655,7 @@ class ModalDriver:
         self.context.scene, self.context.view_layer = bpy.context.scene, bpy.context.view_layer
         self.context.blend_data, self.context.preferences = bpy.data, bpy.context.preferences
         self.context.window = None
+        self.context.active_object, self.context.mode = bpy.context.active_object, bpy.context.mode
         self.context.window_manager = _WindowManager(self.progress)
         self.context.workspace = _Workspace(self.texts)
         self.outcome = None
