@@ -32,12 +32,12 @@ def main() -> None:
             result["analysis"] = analyze(image, params)
             return result["analysis"].seconds
 
-        figures = median_runs(run, args.runs)
+        medians = median_runs(run, args.runs)
         peak = peak_mib(lambda: analyze(image, params))
         grids = len(result["analysis"].grids)
         print(f"{h * w / 1e6:5.2f} {w:>5}x{h:<5} {grids:>6} "
-              + " ".join(f"{figures[s]:>11.3f}" for s in STAGES)
-              + f" {figures['total']:>8.3f} {figures['total'] / (h * w / 1e6):>6.2f} {peak:>9.0f}")
+              + " ".join(f"{medians[s]:>11.3f}" for s in STAGES)
+              + f" {medians['total']:>8.3f} {medians['total'] / (h * w / 1e6):>6.2f} {peak:>9.0f}")
 
 
 if __name__ == "__main__":

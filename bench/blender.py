@@ -50,9 +50,9 @@ if case == "panel":
 t0 = time.perf_counter()
 assert bpy.ops.paint_relief.build_canvas() == {"FINISHED"}
 bpy.context.evaluated_depsgraph_get()  # the modifiers' evaluation is part of building
-figures = {"build": time.perf_counter() - t0}
+measured = {"build": time.perf_counter() - t0}
 if case == "panel":
-    figures.update(paint=paint_seconds, panel=paint_seconds + figures["build"])
+    measured.update(paint=paint_seconds, panel=paint_seconds + measured["build"])
 if case == "render":
     bpy.ops.paint_relief.add_lights()
     bpy.ops.paint_relief.add_camera()
@@ -64,12 +64,12 @@ if case == "render":
     render.filepath = os.path.join(os.path.dirname(painted), "preview_" + method.lower() + ".png")
     t0 = time.perf_counter()
     bpy.ops.render.render(write_still=True)
-    figures["render"] = time.perf_counter() - t0
-    figures["render_size"] = [render.resolution_x * render.resolution_percentage // 100,
+    measured["render"] = time.perf_counter() - t0
+    measured["render_size"] = [render.resolution_x * render.resolution_percentage // 100,
                               render.resolution_y * render.resolution_percentage // 100]
 import resource
-figures["peak_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
-print("FIGURES " + json.dumps(figures), flush=True)
+measured["peak_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+print("MEASURED " + json.dumps(measured), flush=True)
 '''
 
 
@@ -79,10 +79,10 @@ def run_case(work: Path, painted: Path, method: str, case: str, size: int, sampl
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user"))
     run = subprocess.run([sys.executable, "-c", CASE, str(painted), method, case, str(size), str(samples),
                           str(package_dir)], capture_output=True, text=True, env=env, cwd=work)
-    lines = [line for line in run.stdout.splitlines() if line.startswith("FIGURES ")]
+    lines = [line for line in run.stdout.splitlines() if line.startswith("MEASURED ")]
     if run.returncode != 0 or not lines:
         raise SystemExit("{} {} failed:\n{}\n{}".format(case, method, run.stdout[-3000:], run.stderr[-3000:]))
-    return json.loads(lines[-1][len("FIGURES "):])
+    return json.loads(lines[-1][len("MEASURED "):])
 
 
 def main() -> None:
@@ -109,16 +109,16 @@ def main() -> None:
         t0 = time.perf_counter()
         paint_file(work / "photo.png", work / "painted", Params())
         h, w = image.shape[:2]
-        print(f"painted {w}x{h} ({h * w / 1e6:.2f} MP) in {time.perf_counter() - t0:.1f} s (not part of the figures)")
+        print(f"painted {w}x{h} ({h * w / 1e6:.2f} MP) in {time.perf_counter() - t0:.1f} s (not part of the measures)")
         print(f"{'case':<8} {'method':<16} {'seconds':>8} {'peak MiB':>9}  note")
         for case in ("build", "render"):
             for method in METHODS:
-                figures = run_case(work, work / "painted", method, case, args.size, args.samples)
-                seconds = figures[case]
-                peak = f"{figures['peak_mib']:>9.0f}"
+                measured = run_case(work, work / "painted", method, case, args.size, args.samples)
+                seconds = measured[case]
+                peak = f"{measured['peak_mib']:>9.0f}"
                 note = ("target <= 3 s" if case == "build" else
                         "{}x{} px, {} samples, target <= 30 s (build {:.2f} s)".format(
-                            *figures["render_size"], args.samples, figures["build"]))
+                            *measured["render_size"], args.samples, measured["build"]))
                 print(f"{case:<8} {method:<16} {seconds:>8.2f} {peak}  {note}", flush=True)
         if args.panel_megapixels > 0:
             panel_photo(work, args.panel_megapixels, args.runs, args.size, args.samples)

@@ -37,9 +37,9 @@ def median_runs(fn: Callable[[], Dict[str, float]], runs: int) -> Dict[str, floa
     samples: Dict[str, List[float]] = {}
     for _ in range(runs):
         t0 = time.perf_counter()
-        figures = dict(fn())
-        figures["total"] = time.perf_counter() - t0
-        for k, v in figures.items():
+        run_seconds = dict(fn())
+        run_seconds["total"] = time.perf_counter() - t0
+        for k, v in run_seconds.items():
             samples.setdefault(k, []).append(v)
     return {k: statistics.median(v) for k, v in samples.items()}
 

@@ -37,11 +37,11 @@ def main() -> None:
                 return {"analysis": sum(v for k, v in seconds.items() if k != "strokes"),
                         "strokes": seconds["strokes"]}
 
-            figures = median_runs(run, args.runs)
+            medians = median_runs(run, args.runs)
             peak = peak_mib(lambda: paint(image, params))
             stats = result["painting"].statistics
-            print(f"{label:>24} {h * w / 1e6:5.2f} {w:>5}x{h:<5} {stats['strokes']:>8} {figures['analysis']:>10.2f} "
-                  f"{figures['strokes']:>10.2f} {figures['total']:>8.2f} {stats['strokes'] / figures['strokes']:>10.0f} "
+            print(f"{label:>24} {h * w / 1e6:5.2f} {w:>5}x{h:<5} {stats['strokes']:>8} {medians['analysis']:>10.2f} "
+                  f"{medians['strokes']:>10.2f} {medians['total']:>8.2f} {stats['strokes'] / medians['strokes']:>10.0f} "
                   f"{stats['psnr_db']:>8.2f} {peak:>9.0f}", flush=True)
 
 

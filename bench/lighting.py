@@ -47,9 +47,9 @@ def main() -> None:
     print(f"image {cols}x{rows} ({mp:.2f} MP), median of {args.runs} runs")
     print(f"{'model':>12} {'seconds':>8} {'s/MP':>6} {'peak MiB':>9}")
     for name, job in jobs.items():
-        figures = median_runs(lambda: (job(), {})[1], args.runs)
+        medians = median_runs(lambda: (job(), {})[1], args.runs)
         peak = peak_mib(job)
-        print(f"{name:>12} {figures['total']:>8.3f} {figures['total'] / mp:>6.3f} {peak:>9.0f}", flush=True)
+        print(f"{name:>12} {medians['total']:>8.3f} {medians['total'] / mp:>6.3f} {peak:>9.0f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -101,8 +101,8 @@ TOOLS = ROOT.parent / "shared" / "tools"
 STRIP_FRAMES = 4
 LABEL_HEIGHT = 24
 ROWS = ("source", "alone", "sequence")
-PICTURE_FIGURES = ("speckle_share", "edge_fidelity", "chroma_err_smooth", "highlights_kept", "crack_share")
-STROKE_FIGURES = ("median_Lw_layers", "dabs", "width_contrast_area")
+PICTURE_MEASURES = ("speckle_share", "edge_fidelity", "chroma_err_smooth", "highlights_kept", "crack_share")
+STROKE_MEASURES = ("median_Lw_layers", "dabs", "width_contrast_area")
 
 
 def sequence_missing() -> Optional[str]:
@@ -280,14 +280,14 @@ def steadiness(frames: Frames, sources: Sequence[Path], sides: Dict[str, tuple])
     e_footage = measures.mean_over_pairs(footage)
     still_footage = measures.mean_over_pairs(footage_still)
     visible_share, still_share = np.mean(shares, axis=0)
-    figures = {}
+    per_side = {}
     for side, values in per_pair.items():
         e = {k: measures.mean_over_pairs(v) for k, v in values.items()}
-        figures[side] = {"footage": e_footage, "painting": e["painting"], "height": e["height"],
-                         "painting_ratio": ratio(e["painting"], e_footage), "height_ratio": ratio(e["height"], e_footage),
-                         "stillness_ratio": ratio(e["painting_still"], still_footage),
-                         "shares": f"{visible_share:.2f} / {still_share:.2f}"}
-    return name, figures
+        per_side[side] = {"footage": e_footage, "painting": e["painting"], "height": e["height"],
+                          "painting_ratio": ratio(e["painting"], e_footage), "height_ratio": ratio(e["height"], e_footage),
+                          "stillness_ratio": ratio(e["painting_still"], still_footage),
+                          "shares": f"{visible_share:.2f} / {still_share:.2f}"}
+    return name, per_side
 
 
 def coherence(python: str, tools: Path, sources: Path, painted: Path, scratch: Path) -> dict:
@@ -351,7 +351,7 @@ def write_pictures(folder: Path, numbers: Sequence[int], rows: Dict[str, Sequenc
     write_gif(folder / "sequence_strip.gif", animation(pictures, numbers, list(rows)), seconds_per_frame=0.25)
 
 
-def figure(value, digits: int = 2) -> str:
+def cell(value, digits: int = 2) -> str:
     """A table cell: a number with ``digits`` significant figures past the point, or '-' when there is none."""
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return "-"
@@ -364,7 +364,7 @@ def print_table(rows: Sequence[tuple]) -> None:
     """Rows of (figure name, alone, sequence) as aligned columns."""
     print(f"{'figure':<60} {'alone':>12} {'sequence':>12}")
     for name, alone, sequence in rows:
-        print(f"{name:<60} {figure(alone):>12} {figure(sequence):>12}")
+        print(f"{name:<60} {cell(alone):>12} {cell(sequence):>12}")
 
 
 COHERENCE_ROWS = (("footage warping error", "E_src", None), ("painting warping error", "E_paint", None),
@@ -378,7 +378,7 @@ STEADINESS_ROWS = (("footage warping error", "footage"), ("painting warping erro
                    ("shares of pixels visible in both / still", "shares"))
 
 
-def coherence_figure(m: Optional[dict], key: str, of: Optional[str]) -> Optional[float]:
+def coherence_value(m: Optional[dict], key: str, of: Optional[str]) -> Optional[float]:
     """coherence.py's figure ``key`` (over ``of`` when given) of one side; None when not measured."""
     if m is None or m.get(key) is None:
         return None
@@ -403,11 +403,11 @@ def table(frames: Frames, sides: Dict[str, dict], stats_frame: int, motion: str)
             row("strokes born / died per frame",
                 lambda m: None if m.get("born") is None else f"{m['born']:.0f} / {m['died']:.0f}"),
             row("mean PSNR dB against the source frames", lambda m: m["psnr"])]
-    rows += [row(f"stroke_stats frame {stats_frame}: {k}", lambda m, k=k: m["stats"].get(k)) for k in PICTURE_FIGURES]
-    rows += [(f"stroke_stats frame {stats_frame}: {k}", sides["alone"]["stats"].get(k), None) for k in STROKE_FIGURES]
+    rows += [row(f"stroke_stats frame {stats_frame}: {k}", lambda m, k=k: m["stats"].get(k)) for k in PICTURE_MEASURES]
+    rows += [(f"stroke_stats frame {stats_frame}: {k}", sides["alone"]["stats"].get(k), None) for k in STROKE_MEASURES]
     rows += [row(f"{motion}: {name}", lambda m, k=k: m["steadiness"][k]) for name, k in STEADINESS_ROWS]
     if sides["alone"]["coherence"] is not None:
-        rows += [row(f"coherence.py DIS: {name}", lambda m, k=k, of=of: coherence_figure(m["coherence"], k, of))
+        rows += [row(f"coherence.py DIS: {name}", lambda m, k=k, of=of: coherence_value(m["coherence"], k, of))
                  for name, k, of in COHERENCE_ROWS]
         rows.append(row("coherence.py DIS: shares of pixels kept / still",
                         lambda m: f"{m['coherence']['kept']:.2f} / {m['coherence']['still_share']:.2f}"))
@@ -499,9 +499,9 @@ def main() -> None:
                   "the measures above are this bench's own)")
         else:
             height_ratio = w.get("height_ratio", ratio(w["height"], w["footage"]))
-            print(f"sequence report.json warping error ({report['motion']}): footage {figure(w['footage'], 5)}, "
-                  f"painting {figure(w['painting'], 5)}, height {figure(w['height'], 5)}; painting / footage "
-                  f"{figure(w['painting_ratio'])}, height / footage {figure(height_ratio)}")
+            print(f"sequence report.json warping error ({report['motion']}): footage {cell(w['footage'], 5)}, "
+                  f"painting {cell(w['painting'], 5)}, height {cell(w['height'], 5)}; painting / footage "
+                  f"{cell(w['painting_ratio'])}, height / footage {cell(height_ratio)}")
 
 
 if __name__ == "__main__":

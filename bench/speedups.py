@@ -94,14 +94,14 @@ def main() -> None:
         if not found:
             raise SystemExit(f"no photograph named {name} in {ROOT / 'sample_scenes'}")
         pixels = photo(args.megapixels, found[0])
-        figures = {(speedup, plain): [] for speedup in SPEEDUPS for plain in (False, True)}
+        timings = {(speedup, plain): [] for speedup in SPEEDUPS for plain in (False, True)}
         for _ in range(args.runs):
             for speedup, plain_form in SPEEDUPS.items():
                 for plain in (False, True):
                     form = plain_form if plain else getattr(compositing, speedup)
-                    figures[speedup, plain].append(timed_painting(pixels, speedup, form))
+                    timings[speedup, plain].append(timed_painting(pixels, speedup, form))
         for speedup in SPEEDUPS:
-            fast, plain = figures[speedup, False], figures[speedup, True]
+            fast, plain = timings[speedup, False], timings[speedup, True]
             with_it = statistics.median(f[0] for f in fast)
             without = statistics.median(f[0] for f in plain)
             painting = statistics.median(f[1] for f in fast)

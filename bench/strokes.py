@@ -1,7 +1,7 @@
 """Brushwork figures of the bundled samples, the paper's method next to Hertzmann 1998.
 
 For each bundled photograph, paints it with default settings by both methods
-and prints the figures of ALGORITHM §5-6 (bench/brushwork_figures.py): median
+and prints the measures of ALGORITHM §5-6 (bench/brushwork_measures.py): median
 stroke length over width (all strokes and the first layer), the share of the
 painted area in dabs and in strokes at least 1.5 : 1, crack pixels, height
 percentiles, the colour error in smooth areas, the small highlights kept,
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import argparse
 
-from brushwork_figures import (
+from brushwork_measures import (
     area_share_elongated,
     crack_share,
     detail_share,
@@ -31,6 +31,7 @@ from brushwork_figures import (
     speckle_share,
     width_contrast,
 )
+
 from common import ROOT
 from core import Params
 from core.figures.brushwork import brushwork_sheet
@@ -44,7 +45,7 @@ DIGITS = {"speckle": 4, "width contr": 2}  # decimals printed where not 3
 FIGURE_BOX = {"coffee": (250, 110, 490, 350)}  # (x0, y0, x1, y1) px: the cup's rim, handle and spoon
 
 
-def figures(painting, photo) -> dict:
+def measures(painting, photo) -> dict:
     """Every brushwork figure of one painting of ``photo``."""
     shape = stroke_shape(painting.strokes)
     spread = height_spread(painting.height)
@@ -78,7 +79,7 @@ def main() -> None:
         theirs = paint(photo, Params(method="hertzmann98", height_mode=args.height_mode))
         baseline = len(theirs.strokes)
         for label, painting in (("Huang 2011", ours), ("Hertzmann98", theirs)):
-            row = figures(painting, photo)
+            row = measures(painting, photo)
             row["ratio"] = row["strokes"] / baseline
             print(f"{name:10} {label:12} " + " ".join(
                 f"{row[c]:>12}" if isinstance(row[c], int) else f"{row[c]:>12.{DIGITS.get(c, 3)}f}"

@@ -4,7 +4,7 @@
 The script runs in subprocesses with the bpy module (BLENDER_USER_RESOURCES
 in a temporary folder); the saved scene.blend is opened again by
 tests/blender/blend_checks.py. The figures of animation.json are recomputed
-from the written frames by tests/test_film_figures.py's kind of check
+from the written frames by tests/test_film_statistics.py's kind of check
 in core; here the whole run, its files, its scene and its refusals.
 """
 
@@ -69,18 +69,18 @@ def test_animate_writes_every_frame_of_both_films(end_to_end):
 def test_animation_json_holds_both_lightings(end_to_end):
     result = json.loads((end_to_end["out"] / "animation.json").read_text())
     assert result["frames"] == NUMBERS and result["film_size"] == [FILM_W, FILM_H]
-    figures = result["warping_error"]
+    statistics = result["warping_error"]
     for film in ("relit", "paper"):
-        assert [e["frame"] for e in figures[film]["per_frame"]] == NUMBERS[:-1]
-        assert figures[film]["mean"] > 0 and figures[film]["ratio"] == pytest.approx(
-            figures[film]["mean"] / figures["footage"]["mean"])
+        assert [e["frame"] for e in statistics[film]["per_frame"]] == NUMBERS[:-1]
+        assert statistics[film]["mean"] > 0 and statistics[film]["ratio"] == pytest.approx(
+            statistics[film]["mean"] / statistics["footage"]["mean"])
     render = result["render"]
     assert render["samples"] == 2 and len(render["seconds"]) == FRAMES and render["seconds_per_frame"] > 0
     assert result["light"] == {"azimuth_deg": 135.0, "elevation_deg": 30.0}
 
 
 @pytest.mark.blender
-def test_animate_prints_progress_and_its_figures(end_to_end):
+def test_animate_prints_progress_and_its_statistics(end_to_end):
     stdout = end_to_end["first"].stdout
     for number, index in zip(NUMBERS, range(1, FRAMES + 1), strict=True):
         assert "Rendered frame {} ({}/{})".format(number, index, FRAMES) in stdout

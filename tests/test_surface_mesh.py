@@ -82,7 +82,7 @@ def command(*arguments) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=300)
 
 
-def test_core_object_writes_the_texture_s_maps_and_each_island_s_figures(tmp_path):
+def test_core_object_writes_the_texture_s_maps_and_each_island_s_statistics(tmp_path):
     (tmp_path / "two.obj").write_text(TWO_ISLANDS)
     rng = np.random.default_rng(5)
     write_png(tmp_path / "texture.png", np.repeat(np.repeat(rng.random((8, 8, 3)), 12, 0), 12, 1), bits=16)

@@ -1,4 +1,4 @@
-"""Figures of a painting's brushwork for the benchmarks (ALGORITHM §5, §6), defined once so they compare across
+"""Measures of a painting's brushwork for the benchmarks (ALGORITHM §5, §6), defined once so they compare across
 versions (``bench/strokes.py`` prints them).
 
 Every function takes what a painted folder holds: the strokes (each with

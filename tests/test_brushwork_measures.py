@@ -1,4 +1,4 @@
-"""Brushwork figures of bench/brushwork_figures.py against values worked out by hand."""
+"""Brushwork figures of bench/brushwork_measures.py against values worked out by hand."""
 
 import math
 import sys
@@ -10,7 +10,7 @@ import pytest
 from core.strokes import Stroke
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
-from brushwork_figures import (  # noqa: E402
+from brushwork_measures import (  # noqa: E402
     detail_share,
     gradient_correlation,
     layer_strokes,

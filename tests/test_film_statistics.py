@@ -74,7 +74,7 @@ def painted(tmp_path_factory):
     return {"work": work, "frames": frames, "result": result}
 
 
-def test_run_film_writes_the_films_and_figures(painted):
+def test_run_film_writes_the_films_and_their_statistics(painted):
     out = painted["work"] / "out"
     for number in range(FIRST, FIRST + FRAMES):
         for folder in ("paper", "side_by_side"):
@@ -91,10 +91,10 @@ def test_run_film_writes_the_films_and_figures(painted):
 
 
 def test_a_relit_film_equal_to_the_painting_measures_as_the_painting(painted):
-    figures = painted["result"]["warping_error"]
-    # The stand-in relit film is the painting quantised to 8 bits: the same figures within the quantisation.
-    assert figures["relit"]["mean"] == pytest.approx(figures["painting"]["mean"], rel=0.02)
-    assert figures["relit"]["ratio"] == pytest.approx(figures["painting"]["ratio"], rel=0.02)
+    statistics = painted["result"]["warping_error"]
+    # The stand-in relit film is the painting quantised to 8 bits: the same statistics within the quantisation.
+    assert statistics["relit"]["mean"] == pytest.approx(statistics["painting"]["mean"], rel=0.02)
+    assert statistics["relit"]["ratio"] == pytest.approx(statistics["painting"]["ratio"], rel=0.02)
 
 
 def test_figures_recomputed_from_the_written_frames(painted):
