@@ -14,9 +14,9 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
+import held_run
 import numpy as np
 import pytest
 from oracles import folder_bytes, one_sentence_run, same_bytes
@@ -214,17 +214,14 @@ def test_a_sequence_killed_at_a_frame_resumes_to_the_same_bytes(tmp_path):
     whole = subprocess.run(command([tmp_path / "in"], tmp_path / "whole", "--seed", "9"), cwd=ROOT,
                            capture_output=True, text=True)
     assert whole.returncode == 0, whole.stderr
-    process = subprocess.Popen(command([tmp_path / "in"], tmp_path / "killed", "--seed", "9"), cwd=ROOT)
-    report = tmp_path / "killed" / "report.json"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and process.poll() is None:
-        if report.exists() and len(json.loads(report.read_text())["per_frame"]) >= 2:
-            break
-        time.sleep(0.02)
+    process = held_run.start(command([tmp_path / "in"], tmp_path / "killed", "--seed", "9")[3:],
+                             "core.sequence.shot_commit:commit", 2)
+    held_run.held(process)                       # frame 2 committed, the run goes no further until killed
     process.send_signal(signal.SIGKILL)
     process.wait()
+    report = tmp_path / "killed" / "report.json"
     done = json.loads(report.read_text())["per_frame"]
-    assert 2 <= len(done) < 5, "the run was not stopped midway"
+    assert len(done) == 2, "the run was not stopped midway"
     assert all((tmp_path / "killed" / f"painting_{e['frame']:04d}.png").exists() for e in done)
     rerun = subprocess.run(command([tmp_path / "in"], tmp_path / "killed", "--seed", "9"), cwd=ROOT,
                            capture_output=True, text=True)
