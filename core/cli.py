@@ -468,6 +468,7 @@ def run_light(args: argparse.Namespace, progress) -> None:
     from . import lighting
     from .colour import linear_to_srgb
     from .errors import InputError
+    from .files.staging import settle
 
     model = lighting.check_model(args.model)
     azimuth = math.radians(_number(args.azimuth, "--azimuth"))
@@ -480,6 +481,7 @@ def run_light(args: argparse.Namespace, progress) -> None:
     folder = Path(args.outdir)
     if not folder.is_dir():
         raise InputError(f"The folder {folder} does not exist: run `python -m core paint` into it first.")
+    settle(folder)  # a commit a killed run left midway is completed first, so the maps read are of one painting
     names = ("color.exr", "height.exr") + (("orientation.exr",) if model == "paper" else ())
     for name in names:
         if not (folder / name).is_file():

@@ -45,6 +45,7 @@ for path in (str(ROOT), str(TESTS)):
         sys.path.insert(0, path)
 
 import numpy as np  # noqa: E402
+from crash_points import read_shot  # noqa: E402
 from oracles import folder_bytes  # noqa: E402
 from test_frames import write_multilayer  # noqa: E402
 from test_sequence import write_moving_frames  # noqa: E402
@@ -467,29 +468,13 @@ def _(place):
     refuses_frames(place, [frames], str(10**19))
 
 
-@case("frames", "--frames beyond the last frame")
-def _(place):
-    refuses_frames(place, [place.frames], "--frames", options=("--frames", "9-12"))
-
-
-@case("frames", "--frames backwards")
-def _(place):
-    refuses_frames(place, [place.frames], "--frames", options=("--frames", "4-2"))
-
-
-@case("frames", "--frames not a range")
-def _(place):
-    refuses_frames(place, [place.frames], "--frames", options=("--frames", "abc"))
-
-
-@case("frames", "--fade-frames 0")
-def _(place):
-    refuses_frames(place, [place.frames], "fade", options=("--fade-frames", "0"))
-
-
-@case("frames", "--sizes 0")
-def _(place):
-    refuses_frames(place, [place.frames], "sizes", options=("--sizes", "0"))
+for _name, _word, _option, _value in (("--frames beyond the last frame", "--frames", "--frames", "9-12"),
+                                      ("--frames backwards", "--frames", "--frames", "4-2"),
+                                      ("--frames not a range", "--frames", "--frames", "abc"),
+                                      ("--fade-frames 0", "fade", "--fade-frames", "0"),
+                                      ("--sizes 0", "sizes", "--sizes", "0")):
+    case("frames", _name)(lambda place, w=_word, o=_option, v=_value:
+                          refuses_frames(place, [place.frames], w, options=(o, v)))
 
 
 @case("frames", "a negative seed")
@@ -867,7 +852,13 @@ def _(place):
 # --- kills ---------------------------------------------------------------------------------------------------------
 
 def killed_at(place: Place, fraction: float, signum: int = signal.SIGKILL) -> None:
-    """Start the shot, send ``signum`` at ``fraction`` of a whole run's time, then check what is left and go on."""
+    """Start the shot, send ``signum`` at ``fraction`` of a whole run's time, then check what is left and go on.
+
+    Where the signal lands changes from run to run, so what is asserted holds at every moment: after SIGTERM or
+    SIGINT the folder holds complete frames only and nothing half-written; after SIGKILL the folder is read as
+    its readers read it (``crash_points.read_shot``: the maps of every frame report.json lists, then, settled, a
+    folder ``ShotFolder.check`` vouches for whole). Every write boundary of the shot is crashed one by one in
+    ``tests/crash_points.py``."""
     out = place.folder() / "out"
     began = time.monotonic()
     painted(sequence([place.frames], place.folder() / "timing"))
@@ -882,9 +873,8 @@ def killed_at(place: Place, fraction: float, signum: int = signal.SIGKILL) -> No
         assert len(lines) <= 1 and not problem_lines(run.stderr), run.stderr
         if out.exists():
             complete(out)
-    elif out.exists() and (out / "report.json").exists():
-        report = read_report(out)
-        ShotFolder(out).check(report)  # a SIGKILL leaves what the next run repairs: nothing it refuses
+    elif signum == signal.SIGKILL:
+        read_shot(out)
     goes_on(place, [place.frames], out)
 
 
@@ -914,12 +904,28 @@ def _(place):
     stop_when(process, lambda: any(p.name.endswith("_001") for p in out.glob("*")) if out.exists() else False,
               process.kill)
     finish(process)
-    painted(batch(place.first_two(), out))
+    said = painted(batch(place.first_two(), out))
+    assert "paint-relief: batch: kept " in said, said
+    assert sorted(p.name for p in out.iterdir()) == ["frame_0001_001", "frame_0002_001"], \
+        "the batch run again painted into new folders"
     for folder in sorted(out.iterdir()):
-        if folder.name.startswith(STAGING_PREFIX):
-            raise AssertionError(f"{folder} was left")
-        stem = folder.name.rsplit("_", 1)[0]
-        assert folder_bytes(folder) == folder_bytes(place.stills / f"{stem}_001"), folder
+        assert folder_bytes(folder) == folder_bytes(place.stills / folder.name), folder
+        assert not leftovers(folder), leftovers(folder)
+
+
+@case("kills", "SIGKILL of a batch holding a shot, after its second frame")
+def _(place):
+    out = place.folder() / "out"
+    shot = out / f"{place.frames.name}_001"
+    arguments = ["batch", place.frames / FRAME.format(1), place.frames, "-o", out, "-q", "--seed", SEED]
+    process = started(arguments)
+    stop_when(process, lambda: committed_frames(shot) >= 2, process.kill)
+    finish(process)
+    said = painted(core(*arguments))
+    assert "went on with 1" in said or "kept 2" in said, said
+    assert sorted(p.name for p in out.iterdir()) == ["frame_0001_001", shot.name], sorted(out.iterdir())
+    assert folder_bytes(out / "frame_0001_001") == folder_bytes(place.stills / "frame_0001_001")
+    same_as(shot, place.whole)
 
 
 # --- damaged and stale files ---------------------------------------------------------------------------------------
@@ -1148,13 +1154,20 @@ def _(place):
         assert folder_bytes(out / name) == folder_bytes(place.stills / "frame_0001_001")
 
 
-@case("batch", "run twice into one OUTROOT")
+@case("batch", "run twice into one OUTROOT, then with another seed and with --fresh")
 def _(place):
     out = place.folder()
     painted(batch(place.first_two(), out))
-    painted(batch(place.first_two(), out))
-    assert sorted(p.name for p in out.iterdir()) == ["frame_0001_001", "frame_0001_002", "frame_0002_001",
-                                                     "frame_0002_002"]
+    before = snapshot(out)
+    said = painted(batch(place.first_two(), out))
+    assert "paint-relief: batch: kept 2, went on with 0, painted 0." in said, said
+    untouched(out, before)
+    painted(core("batch", *place.first_two(), "-o", out, "-q", "--seed", SEED + 1))
+    painted(batch(place.first_two(), out, "--fresh"))
+    assert sorted(p.name for p in out.iterdir()) == [f"frame_000{n}_00{k}" for n in (1, 2) for k in (1, 2, 3)]
+    for name in ("frame_0001_003", "frame_0002_003"):
+        assert folder_bytes(out / name) == folder_bytes(place.stills / name.replace("_003", "_001")), name
+    assert {p: before[p] for p in before} == {p: v for p, v in snapshot(out).items() if p in before}
 
 
 @case("batch", "an image cut short")
@@ -1394,7 +1407,8 @@ def _(place):
     if run.returncode != 0:
         lines = [line for line in run.stderr.splitlines() if line.strip()]
         assert run.returncode == 128 + signal.SIGTERM, (run.returncode, run.stderr)
-        assert len(lines) == 1 and "core sequence" in lines[0] and not problem_lines(run.stderr), run.stderr
+        assert len(lines) == 1 and "the same command goes on" in lines[0] and not problem_lines(run.stderr), \
+            run.stderr
     for folder in (first, out / f"{Path(place.frames).name}_002"):
         complete(folder)
         goes_on(place, [place.frames], folder)
