@@ -486,20 +486,25 @@ def test_library_messages_printed_in_a_thread_whose_capture_began_inside_another
     first_inside, first_done = threading.Event(), threading.Event()
     texts = {}
 
+    # the waits only guard against a hang: far beyond a thread's start on a loaded machine, and each is checked
+    hang = 600
+
     def first():
         with quiet.captured() as printed:
             os.write(2, b"first\n")
             first_inside.set()
-            first_done.wait(10)
+            texts["waited"] = first_done.wait(hang)
         texts["first"] = printed.text
 
     thread = threading.Thread(target=first)
     thread.start()
-    first_inside.wait(10)
+    assert first_inside.wait(hang)
     with quiet.captured() as printed:
         first_done.set()
-        thread.join(10)
+        thread.join(hang)
+        assert not thread.is_alive()
         os.write(2, b"second, after the first block ended\n")
+    assert texts["waited"]
     assert texts["first"] == "first\n" and printed.text == "second, after the first block ended\n"
     os.write(2, b"after every block\n")
     assert capfd.readouterr().err == "after every block\n"
