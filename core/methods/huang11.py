@@ -49,12 +49,14 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     params.validate()
     image = check_image(image)
     stage = Stage(progress, cancel)
+    brush = load_brush(params.brush)                      # a brush that cannot be read is refused before the analysis
     analysis = analyze(image, params, mask=mask, progress=stage.sub(0.0, 0.15).report if progress else None,
                        cancel=cancel)
     t0 = time.perf_counter()
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
     recorder = StrokeRecorder() if record_strokes else None
-    strokes, per_layer = paint_strokes(canvas, image, analysis, params, stage.sub(0.15, 1.0), recorder)
+    strokes, per_layer = paint_strokes(canvas, image, analysis, params, stage.sub(0.15, 1.0), recorder,
+                                       tips=tip_cache(brush, analysis.sizes, params.transparency))
     seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
     statistics = painting_statistics(image, canvas.colour, strokes, per_layer, len(analysis.grids),
                                      per_layer[-1] if params.detail_pass else 0, seconds, params, params.method,
