@@ -5,6 +5,7 @@ import contextlib
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -12,7 +13,61 @@ from pathlib import Path
 from typing import Iterator, List, NamedTuple, Optional
 
 ROOT = Path(__file__).resolve().parents[1]
-START_SECONDS = 60
+START_SECONDS = 600
+"""How long a scheduler or a worker may take to start: it only guards against a hang, far beyond the seconds
+either takes on a loaded machine."""
+HANG_SECONDS = 900
+"""How long one farm test may run before it fails as hung: far beyond what the slowest takes on a loaded machine."""
+
+
+class Hung(BaseException):
+    """A test ran past its HANG_SECONDS; a BaseException, so no ``except Exception`` (nor one of TimeoutError) on
+    the way turns it into an answer that passes."""
+
+
+@contextlib.contextmanager
+def hang_guard(seconds: float = HANG_SECONDS) -> Iterator[None]:
+    """Raise Hung in the main thread when the body runs past ``seconds`` (SIGALRM)."""
+    def expired(signum, frame):
+        raise Hung(f"the test did not finish within {seconds} s")
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.alarm(int(seconds))
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+@contextlib.contextmanager
+def closed_port() -> Iterator[int]:
+    """A port of 127.0.0.1 where a connection is refused for the whole body: a socket of this process is bound to
+    it and does not listen, so no other process can take the port meanwhile."""
+    with socket.socket() as bound:
+        bound.bind(("127.0.0.1", 0))
+        yield bound.getsockname()[1]
+
+
+HOUR = 3600
+"""The connect timeouts of ``painter_command``: a wait that lasts one of them outlasts any hang guard here."""
+
+
+def painter_command(*arguments) -> List[str]:
+    """``python -m core ARGUMENTS`` in which every connect timeout of the farm's (CONNECT_SECONDS) and of Dask's
+    lasts an hour (with ``painter_environment()``): a command that still ends within a test's hang guard waited
+    for none of them, however slow the machine."""
+    code = ("import runpy, sys\n"
+            "import core.farm.cluster\n"
+            f"core.farm.cluster.CONNECT_SECONDS = {HOUR}\n"
+            "sys.argv = ['core', *sys.argv[1:]]\n"
+            "runpy.run_module('core', run_name='__main__', alter_sys=True)\n")
+    return [sys.executable, "-c", code, *map(str, arguments)]
+
+
+def painter_environment() -> dict:
+    """The environment of ``painter_command``: the painter importable from this source tree, Dask's connect
+    timeout an hour."""
+    return dict(environment(), DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT=f"{HOUR}s")
 
 
 class Cluster(NamedTuple):
@@ -69,7 +124,7 @@ def cluster(folder: Path, workers: int = 2, worker_prefix: Optional[List[str]] =
 def worker_command(address: str, python: str = sys.executable) -> List[str]:
     """A single-threaded ``dask worker`` of the scheduler at ``address``, without a nanny."""
     return [python, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
-            "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60"]
+            "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", str(START_SECONDS)]
 
 
 def spawn_worker(started: List[subprocess.Popen], worker: Worker, address: str, folder: Path,
@@ -104,7 +159,8 @@ def joining_worker(dask: Cluster, folder: Path, worker_prefix: Optional[List[str
 
 
 def stop(started: List[subprocess.Popen]) -> None:
-    """SIGTERM every process of ``started`` that still runs, then wait for each (SIGKILL after 15 s)."""
+    """SIGTERM every process of ``started`` that still runs, then wait for each (SIGKILL after 15 s: a process
+    stopped either way is all the tests need, so the wait may run out at any speed)."""
     for process in started:
         if process.poll() is None:
             process.send_signal(signal.SIGTERM)
@@ -136,5 +192,5 @@ def wait_for_address(address_file: Path, scheduler: subprocess.Popen) -> str:
 def wait_for_workers(address: str, count: int) -> None:
     from distributed import Client
 
-    with Client(address, timeout="30s", set_as_default=False) as client:
+    with Client(address, timeout=f"{START_SECONDS}s", set_as_default=False) as client:
         client.wait_for_workers(count, timeout=START_SECONDS)

@@ -8,10 +8,10 @@ import socket
 import subprocess
 import sys
 import threading
-import time
 from pathlib import Path
 
 import pytest
+from dask_cluster import HOUR, closed_port, hang_guard, painter_command, painter_environment
 from oracles import one_sentence, one_sentence_run
 from tiny_shot import shot
 
@@ -58,18 +58,17 @@ def test_addresses_as_dask_prints_them_are_read():
     Farm(scheduler="tcp://10.0.0.5:8786").validate()
 
 
-def closed_port() -> int:
-    """A port of 127.0.0.1 nothing listens on: one the system just gave out and took back."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
+@pytest.fixture(autouse=True)
+def time_limit():
+    """A check that waits without end (or for one of the hour-long timeouts below) fails instead."""
+    with hang_guard():
+        yield
 
 
 def test_a_refused_connection_is_called_refused_at_once():
-    port = closed_port()
-    start = time.monotonic()
-    message = one_sentence(knock(f"tcp://127.0.0.1:{port}", Address("127.0.0.1", port), 10))
-    assert time.monotonic() - start < 2
+    """Refused at once: given an hour to connect, knock still ends within the test's hang guard."""
+    with closed_port() as port:
+        message = one_sentence(knock(f"tcp://127.0.0.1:{port}", Address("127.0.0.1", port), HOUR))
     assert message == (f"The Dask scheduler at tcp://127.0.0.1:{port} refused the connection: nothing listens on "
                        f"port {port} of 127.0.0.1; check the address and that `dask scheduler` runs there.")
 
@@ -93,28 +92,26 @@ def frames(tmp_path):
     return shot(tmp_path / "frames", frames=2)
 
 
-def run_sequence(frames: Path, out: Path, scheduler: str) -> tuple:
-    """(the finished ``python -m core sequence FRAMES -o OUT --scheduler SCHEDULER -q``, its seconds)."""
-    start = time.monotonic()
-    result = subprocess.run([sys.executable, "-m", "core", "sequence", str(frames), "-o", str(out), "--scheduler",
-                             scheduler, "-q"], capture_output=True, text=True, timeout=120, cwd=ROOT)
-    return result, time.monotonic() - start
+def run_sequence(frames: Path, out: Path, scheduler: str) -> subprocess.CompletedProcess:
+    """The finished ``python -m core sequence FRAMES -o OUT --scheduler SCHEDULER -q``, every connect timeout of
+    its an hour long (``painter_command``): that it ends within the test's hang guard shows it waited for none, as
+    Dask waits on a client it could not start or retries a refused connection for its whole timeout."""
+    return subprocess.run(painter_command("sequence", frames, "-o", out, "--scheduler", scheduler, "-q"),
+                          capture_output=True, text=True, env=painter_environment(), cwd=ROOT)
 
 
 @pytest.mark.parametrize("text", ["tcp://127.0.0.1:notaport", "my render box"])
 def test_the_command_given_a_malformed_address_says_so_in_one_sentence_and_stops(tmp_path, frames, text):
-    result, seconds = run_sequence(frames, tmp_path / "out", text)
+    result = run_sequence(frames, tmp_path / "out", text)
     assert result.returncode == 2 and MALFORMED[text] in one_sentence_run(result)
-    assert seconds < 8, seconds          # against Dask's own 20 s wait on a client it could not start
     assert not (tmp_path / "out").exists()
 
 
 def test_the_command_given_a_closed_port_says_refused_in_one_sentence_and_stops(tmp_path, frames):
     pytest.importorskip("distributed")
-    port = closed_port()
-    result, seconds = run_sequence(frames, tmp_path / "out", f"tcp://127.0.0.1:{port}")
+    with closed_port() as port:
+        result = run_sequence(frames, tmp_path / "out", f"tcp://127.0.0.1:{port}")
     assert result.returncode == 2 and "refused the connection" in one_sentence_run(result)
-    assert seconds < 8, seconds          # against Dask's own 10 s of retrying a refused connection
     assert not (tmp_path / "out").exists()
 
 
@@ -156,13 +153,12 @@ def test_a_port_where_no_dask_scheduler_listens_is_one_sentence_and_no_hang(not_
     distributed = pytest.importorskip("distributed")
     from core.farm import cluster
 
+    # a silent server is given up after CONNECT_SECONDS; Dask's own wait without end would meet the hang guard
     monkeypatch.setattr(cluster, "CONNECT_SECONDS", 1)
     address = not_a_scheduler(words)
-    start = time.monotonic()
     with pytest.raises(FarmError) as refused:
         with cluster.reach(distributed, address):
             pass
-    assert time.monotonic() - start < 5          # against Dask's own wait without end
     message = one_sentence(str(refused.value))
     assert message.startswith(f"What listens at {address} does not answer as a Dask scheduler")
 
@@ -224,7 +220,7 @@ def test_the_question_put_to_a_worker_runs_where_the_painter_cannot_be_imported(
     paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p and Path(p).resolve() != ROOT]
     result = subprocess.run([sys.executable, "-c", "import json, sys; print(json.dumps(eval(sys.argv[1], {})))",
                              expression],
-                            capture_output=True, text=True, timeout=120, cwd=tmp_path,
+                            capture_output=True, text=True, timeout=600, cwd=tmp_path,
                             env=dict(os.environ, PYTHONPATH=os.pathsep.join(paths)))
     assert result.returncode == 0, result.stderr
     answer = json.loads(result.stdout)
