@@ -63,7 +63,7 @@ def test_a_batch_on_two_local_workers_paints_each_still_as_painting_it_alone(tmp
 def test_a_batch_in_one_process_is_the_same_bytes_and_the_command_names_each_folder(tmp_path):
     inputs = photos(tmp_path / "in")[:2]
     result = subprocess.run([sys.executable, "-m", "core", "batch", *map(str, inputs), "-o", str(tmp_path / "out"),
-                             "--seed", "9", "-q"], capture_output=True, text=True, cwd=ROOT, timeout=300)
+                             "--seed", "9", "-q"], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines() == [f"{inputs[0]} -> {tmp_path / 'out' / 'still_0_001'}",
                                           f"{inputs[1]} -> {tmp_path / 'out' / 'photo_001'}"]
@@ -211,7 +211,7 @@ def small_stills(folder: Path, count: int) -> list:
 def batch(inputs, out: Path, *options) -> subprocess.CompletedProcess:
     """``core batch INPUTS -o OUT -q --seed 9 OPTIONS`` in a child process; it must succeed."""
     run = subprocess.run([sys.executable, "-m", "core", "batch", *map(str, inputs), "-o", str(out), "-q",
-                          "--seed", "9", *map(str, options)], capture_output=True, text=True, cwd=ROOT, timeout=300)
+                          "--seed", "9", *map(str, options)], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert run.returncode == 0, run.stderr
     return run
 

@@ -97,7 +97,7 @@ def built_zips(tmp_path_factory):
                "-o", ".venv/.installed",
                "PY=" + sys.executable, "BLENDER_EXT=" + str(blender_ext),
                "extension"]
-    run = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    run = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, "make extension failed:\n{}\n{}".format(run.stdout, run.stderr)
 
     zips = {z.name: z for z in (src / "dist").glob("paint_relief-*.zip")}
@@ -217,7 +217,7 @@ def test_the_extension_carries_no_dask(built_zips):
 def test_install_enable_disable_enable(this_platforms_zip, tmp_path):
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "blender_user"))
     run = subprocess.run([sys.executable, str(HELPER), str(this_platforms_zip)],
-                         capture_output=True, text=True, timeout=300, env=env, cwd=tmp_path)
+                         capture_output=True, text=True, timeout=600, env=env, cwd=tmp_path)
     output = "stdout:\n{}\nstderr:\n{}".format(run.stdout, run.stderr)
     assert run.returncode == 0, output
     lines = run.stdout.strip().splitlines()

@@ -44,7 +44,7 @@ def end_to_end(tmp_path_factory):
     again = _animate([out / "painted", "-o", work / "again", "--samples", 2, "--size", 64, "--azimuth", 0], work)
     assert again.returncode == 0, again.stdout[-3000:] + again.stderr[-3000:]
     return {"work": work, "out": out, "first": first, "again": again, "painted_bytes": painted_bytes,
-            "blend": run_checks(BLEND_CHECKS, work, out / "scene.blend", timeout=300)}
+            "blend": run_checks(BLEND_CHECKS, work, out / "scene.blend", timeout=600)}
 
 
 @pytest.mark.blender

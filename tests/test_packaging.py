@@ -52,7 +52,7 @@ def wheel(tmp_path_factory):
     out = src.parent / "wheels"
     run = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "--no-index",
                           "--disable-pip-version-check", "--quiet", "--wheel-dir", str(out), str(src)],
-                         capture_output=True, text=True, timeout=300)
+                         capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, "pip wheel failed:\n{}\n{}".format(run.stdout, run.stderr)
     built = sorted(out.glob("*.whl"))
     assert len(built) == 1, built
@@ -99,23 +99,23 @@ def test_installed_wheel_runs_outside_the_repository_and_paints_the_repositorys_
     site = tmp_path / "site"
     run = subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "--no-index", "--quiet",
                           "--disable-pip-version-check", "--target", str(site), str(wheel)],
-                         capture_output=True, text=True, timeout=120)
+                         capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr
     env = dict(os.environ, PYTHONPATH=str(site))
     code = "import core, core.figures.text as t, os; print(core.__file__); print(os.path.isfile(t.FONT_FILE))"
     found = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env,
-                           timeout=60)
+                           timeout=600)
     assert found.returncode == 0, found.stderr
     where, font = found.stdout.split()
     assert Path(where).is_relative_to(site) and font == "True"
     helped = subprocess.run([sys.executable, "-m", "core", "--help"], capture_output=True, text=True, cwd=tmp_path,
-                            env=env, timeout=60)
+                            env=env, timeout=600)
     assert helped.returncode == 0 and "paint" in helped.stdout, helped.stderr
     # a machine of a farm paints with the installed painter: the same files, byte for byte, as this source tree's
     photo = tmp_path / "photo.png"
     writing.write_png(photo, half_textured())
     painted = subprocess.run([sys.executable, "-m", "core", "paint", str(photo), "-o", str(tmp_path / "installed"),
-                              "-q", "--seed", "2"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120)
+                              "-q", "--seed", "2"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
     assert painted.returncode == 0, painted.stderr
     paint_file(photo, tmp_path / "here", Params(seed=2))
     same_bytes(tmp_path / "installed", tmp_path / "here")

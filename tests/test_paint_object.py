@@ -119,7 +119,7 @@ def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measure
     assert source["seam"] > 3 * source["inner"] and painted["seam"] == pytest.approx(source["seam"], rel=0.25)
     assert (out / "scene.blend").is_file() and (out / "maps" / "color.exr").is_file()
     refused = subprocess.run([sys.executable, str(script), str(tmp_path / "none.blend"), "-o", str(tmp_path / "x")],
-                             capture_output=True, text=True, timeout=300, cwd=tmp_path,
+                             capture_output=True, text=True, timeout=600, cwd=tmp_path,
                              env=dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user")))
     assert refused.returncode == 1 and refused.stderr.strip().endswith(f"The scene {tmp_path / 'none.blend'} does "
                                                                        f"not exist.")

@@ -39,7 +39,7 @@ def run(*arguments, warnings_as_errors=False):
     """``python -m core ARGUMENTS -q`` in a process of its own (NumPy's warnings raised as errors when asked)."""
     flags = ["-W", "error"] if warnings_as_errors else []
     return subprocess.run([sys.executable, *flags, "-m", "core", *map(str, arguments), "-q"], capture_output=True,
-                          text=True, cwd=REPO, timeout=300)
+                          text=True, cwd=REPO, timeout=600)
 
 
 def strict_json(path: Path):

@@ -79,7 +79,7 @@ def test_a_mesh_of_arrays_that_do_not_fit_is_one_sentence():
 
 def command(*arguments) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "core", "object", *map(str, arguments), "-q"], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300)
+                          capture_output=True, text=True, timeout=600)
 
 
 def test_core_object_writes_the_texture_s_maps_and_each_island_s_statistics(tmp_path):

@@ -38,7 +38,7 @@ def frames(tmp_path_factory):
     work = tmp_path_factory.mktemp("vector_pass")
     out = work / "out"
     run = subprocess.run([sys.executable, str(SCRIPT), str(out), *map(str, (WIDTH, HEIGHT, FRAMES, RIGHT_PX, DOWN_PX))],
-                         capture_output=True, text=True, timeout=300, cwd=work,
+                         capture_output=True, text=True, timeout=600, cwd=work,
                          env=dict(os.environ, BLENDER_USER_RESOURCES=str(work / "blender_user")))
     paths = [out / f"frame_{n:04d}.exr" for n in range(1, FRAMES + 1)]
     assert run.returncode == 0 and all(p.is_file() for p in paths), run.stdout[-3000:] + run.stderr[-3000:]
