@@ -394,6 +394,19 @@ def read_repair(folder: Path) -> None:
         read_shot(folder)
 
 
+def textured_mesh(folder: Path) -> None:
+    """A mesh of two UV islands (tests/test_surface_mesh.py) and a 96 x 96 texture of 8 x 8 coloured squares."""
+    import numpy as np
+    from test_surface_mesh import TWO_ISLANDS
+
+    from core.files.writing import write_png
+
+    folder.mkdir(parents=True)
+    (folder / "two.obj").write_text(TWO_ISLANDS)
+    squares = np.random.default_rng(5).random((8, 8, 3))
+    write_png(folder / "texture.png", np.repeat(np.repeat(squares, 12, 0), 12, 1), bits=16)
+
+
 def batch_folders(out: Path, reference: Path, case: Path, reference_case: Path) -> None:
     """A batch's root holds one folder per input, each the bytes of a run never stopped, and nothing else."""
     mine = sorted(p.name for p in out.iterdir()) if out.exists() else []
@@ -413,12 +426,15 @@ STILL = ["paint", "{folder}/in/frame_0001.png", "-o", "{folder}/out", "-q", "--s
 SHOT = ["sequence", "{folder}/in", "-o", "{folder}/out", "-q", "--seed", str(SEED)]
 BATCH = ["batch", "{folder}/in/frame_0001.png", "{folder}/in/frame_0002.png", "-o", "{folder}/out", "-q",
          "--seed", str(SEED)]
+OBJECT = ["object", "{folder}/texture.png", "--mesh", "{folder}/two.obj", "-o", "{folder}/out", "-q", "--seed",
+          str(SEED), "--texture-size", "128", "--stroke-mm", "80,40,20"]
 
 MATRICES = [
     Matrix("a still", STILL, lambda f: frames(f, 1), read_still, same_painting),
     Matrix("a shot of three frames", SHOT, frames, read_shot, same_painting),
     Matrix("a damaged shot repaired", SHOT, damaged_shot, read_repair, same_painting),
     Matrix("a batch of two stills", BATCH, lambda f: frames(f, 2), read_batch, batch_folders),
+    Matrix("an object's texture", OBJECT, textured_mesh, read_still, same_painting),
     Matrix("the farm's commit of a frame its workers wrote", SHOT + ["--workers", "2"], frames, read_shot,
            same_painting, cluster=True, points=second_commit, again=SHOT),
 ]

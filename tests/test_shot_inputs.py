@@ -137,15 +137,16 @@ def test_a_painting_into_a_folder_inside_the_folder_of_frames_is_painted(tmp_pat
     assert painted_bytes(folder / "painted") == painted_bytes(painted)
 
 
-def test_a_batch_into_the_folder_of_its_stills_paints_each_again_into_a_new_folder(tmp_path, half_textured):
-    """core batch writes each still into <stem>_001, <stem>_002, ...: its outputs are never among its inputs."""
+def test_a_batch_into_the_folder_of_its_stills_keeps_its_paintings_and_paints_anew_with_fresh(tmp_path, half_textured):
+    """core batch writes each still into <stem>_001: its outputs are never among its inputs. Run again it keeps
+    them; with --fresh it paints each again into <stem>_002, the same bytes."""
     folder = tmp_path / "stills"
     folder.mkdir()
     stills = [folder / "a.png", folder / "b.png"]
     for seed, path in enumerate(stills):
         writing.write_png(path, half_textured(32, 40, seed))
-    for counter in ("001", "002"):
-        result = run("batch", *stills, "-o", folder)
+    for counter, options in (("001", ()), ("001", ()), ("002", ("--fresh",))):
+        result = run("batch", *stills, "-o", folder, *options)
         assert result.returncode == 0, result.stderr
         assert [line.split(" -> ")[1] for line in result.stdout.splitlines()] == [
             str(folder / f"{path.stem}_{counter}") for path in stills]
