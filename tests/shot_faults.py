@@ -248,6 +248,19 @@ def same_as(out: Path, reference: Path, inputs: bool = True) -> None:
     assert not leftovers(out), leftovers(out)
 
 
+def whole_or_as_it_was(place: Place, out: Path) -> None:
+    """The shot run into ``out`` either paints to the bytes of the shot painted whole, or is refused in one
+    sentence naming ``out`` and leaves it as it was."""
+    before = snapshot(out)
+    run = sequence([place.frames], out)
+    if run.returncode == 0:
+        painted(run)
+        same_as(out, place.whole)
+    else:
+        refused(run, out)
+        untouched(out, before)
+
+
 def goes_on(place: Place, inputs, out: Path, reference: Optional[Path] = None, *options) -> None:
     """The same command run again paints to the bytes of the shot painted whole."""
     painted(sequence(inputs, out, *options))
@@ -709,14 +722,7 @@ def _(place):
         writing.write_png(other / FRAME.format(n), read_png(other / FRAME.format(n))[:, ::-1])
     out = folder / "out"
     painted(sequence([other], out, "--frames", "1-3"))
-    before = snapshot(out)
-    run = sequence([place.frames], out)
-    if run.returncode == 0:
-        painted(run)
-        same_as(out, place.whole)
-    else:
-        refused(run, out)
-        untouched(out, before)
+    whole_or_as_it_was(place, out)
 
 
 @case("output", "-o holds files of the user's")
@@ -1053,14 +1059,7 @@ case("damage", "report.json with a committed length beyond the lives file")(
 def _(place):
     out = place.whole_copy(place.folder())
     (out / "report.json").unlink()
-    before = snapshot(out)
-    run = sequence([place.frames], out)
-    if run.returncode == 0:
-        painted(run)
-        same_as(out, place.whole)
-    else:
-        refused(run, out)
-        untouched(out, before)
+    whole_or_as_it_was(place, out)
 
 
 @case("damage", "the maps of frames 4-5 deleted")
