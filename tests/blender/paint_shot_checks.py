@@ -18,6 +18,7 @@ without them, so the render checks also run on a Blender that has only its
 own modules. The last line printed is ``RESULTS <json>``.
 """
 
+import contextlib
 import json
 import math
 import os
@@ -354,7 +355,8 @@ def main(work):
                              "files": folder_files(folder), "running": jobs.is_running(scene)}
 
         second = ModalDriver(bpy, ops_paint_shot)
-        second.run(stop_when=lambda: any(text and "Frame 3 (3/4)" in text for text in second.texts))
+        with painter_waiting_for_esc("Frame 3 (3/4)"):
+            second.run(stop_when=lambda: any(text and "Frame 3 (3/4)" in text for text in second.texts))
         report = json.load(open(os.path.join(folder, "report.json")))
         after_paint_stop = {"outcome": second.outcome, "reports": second.reports, "folder": settings.animation_dir,
                             "files": folder_files(folder), "frames": report["frames"],
@@ -681,6 +683,27 @@ class ModalDriver:
             time.sleep(0.005)
             result = self.operator.modal(self.context, timer)
         self.outcome = sorted(result)
+
+
+@contextlib.contextmanager
+def painter_waiting_for_esc(words, seconds=600):
+    """Within the body, a painter's thread (``modal_job.Worker``) whose progress message first holds ``words`` waits
+    there until it is asked to stop (Esc): the window's timer events see that message and press Esc while that
+    part is painted, however the two threads are scheduled. ``seconds`` only guards against a hang."""
+    from paint_relief.addon import modal_job
+
+    progress = modal_job.Worker.progress
+
+    def waiting(worker, fraction, message):
+        progress(worker, fraction, message)
+        if words in message:
+            worker.cancel.wait(seconds)
+
+    modal_job.Worker.progress = waiting
+    try:
+        yield
+    finally:
+        modal_job.Worker.progress = progress
 
 
 def write_frame(bpy, path, number, size=(WIDTH, HEIGHT)):
