@@ -394,9 +394,10 @@ def main(argv):
     for (name, start), (_, stop) in zip(times, times[1:], strict=False):
         print(f"    {name:<8} {stop - start:7.1f} s")
     print(f"    {'total':<8} {time.perf_counter() - started:7.1f} s")
-    means = summary["mean_warping_error"]
+    means, ratio = summary["mean_warping_error"], summary["relit_over_original"]
     print("Mean warping error from view to view: relit {relit:.5f}, paper {paper:.5f}, original {original:.5f}"
-          .format(**means) + f"; relit / original {summary['relit_over_original']:.2f}.")
+          .format(**means) + "; relit / original {}.".format("n/a (the original's is 0)" if ratio is None
+                                                             else f"{ratio:.2f}"))
     return 0
 
 
