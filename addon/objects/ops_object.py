@@ -5,9 +5,9 @@ map, and switch between the painted material and the one the object had.
 Paint Object gathers on the main thread what the painter needs: the mesh's
 triangles and the texture's source (``surface.texture_source``, which may
 bake; an object painted before shows its original materials meanwhile, so
-its source is theirs, never the painting). The work is one call of ``core.paint_object``, in a worker thread with
-the progress bar and Esc interactively, or at once headless
-(``modal_job``). Once it is done, the object gets its painted material and
+its source is theirs, never the painting). The work is one call of
+``core.paint_object``, in a worker thread with the progress bar and Esc
+interactively, or at once headless (``modal_job``). Once it is done, the object gets its painted material and
 relief (``object_material``).
 """
 
