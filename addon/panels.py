@@ -151,7 +151,7 @@ class VIEW3D_PT_paint_relief_object(_PaintReliefPanel, Panel):
             if obj is not None and obj.type == "MESH" and obj.data.polygons:
                 layout.operator("paint_relief.smart_uv_project", icon="UV")
         else:
-            image = surface.base_color_image(obj)
+            image = surface.base_color_image(obj, object_material.source_materials(obj))
             _note(layout, "Source: {}".format(
                 "Base Color image {}".format(image.name) if image is not None else
                 "texture file" if settings.object_texture_path else "bake of the diffuse colour"), icon="IMAGE_DATA")

@@ -296,7 +296,7 @@ def guarded_folders(package_folder, repositories, user_folder=None):
 
 
 PAINTED_MATERIAL_KEY = "paint_relief_painted_material"
-"""The custom property naming a painted object's own material (Paint Object)."""
+"""The custom property holding a painted object's own material (Paint Object; a file painted before names it)."""
 
 TEXTURE_SIZE_CHOICES = (1024, 2048, 4096, 8192)
 """The texture sizes (texels a side) Paint Object offers, within ``core.params.TEXTURE_SIZE_RANGE``."""

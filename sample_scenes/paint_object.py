@@ -29,8 +29,11 @@ Steps, each printed with its time:
    "seam_steps");
 5. ``OUTDIR/scene.blend``.
 
-A bad input ends with one sentence on stderr and exit code 1 (2 for a
-malformed command line).
+The maps are written as the painter commits them: all together or not at
+all, over an earlier painting's in ``OUTDIR/maps`` and beside any other
+file there. A bad input ends with one sentence on stderr and exit code 1 (2
+for a malformed command line); it leaves OUTDIR as it was (an OUTDIR this
+run made is removed again), with any earlier painting in it.
 """
 
 from __future__ import annotations
@@ -333,6 +336,8 @@ def random_choice(count, wanted, seed):
 def main(argv):
     args = arguments(argv)
     started, times = time.perf_counter(), []
+    out = args.output.resolve()
+    created = not out.exists()      # a failed run removes the folder it made; an existing one keeps what it held
 
     def step(name):
         times.append((name, time.perf_counter()))
@@ -353,11 +358,7 @@ def main(argv):
         if args.texture_size not in choices:
             raise Failure(f"The texture size must be one of {', '.join(map(str, choices))} texels, got "
                           f"{args.texture_size}.")
-        out = args.output.resolve()
         maps = out / "maps"
-        if maps.exists():
-            shutil.rmtree(maps)
-        out.mkdir(parents=True, exist_ok=True)
         step("paint")
         report = paint(obj, args, maps)
         step("renders")
@@ -383,6 +384,8 @@ def main(argv):
         step("blend")
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)
     except Exception as error:  # a bad input or a failed step: one sentence
+        if created:
+            shutil.rmtree(out, ignore_errors=True)
         if type(error).__name__ not in ("Failure", "InputError", "OutputError", "ParameterError", "Cancelled"):
             raise
         sys.stderr.write(f"{error}\n")
@@ -391,9 +394,10 @@ def main(argv):
     for (name, start), (_, stop) in zip(times, times[1:], strict=False):
         print(f"    {name:<8} {stop - start:7.1f} s")
     print(f"    {'total':<8} {time.perf_counter() - started:7.1f} s")
-    means = summary["mean_warping_error"]
+    means, ratio = summary["mean_warping_error"], summary["relit_over_original"]
     print("Mean warping error from view to view: relit {relit:.5f}, paper {paper:.5f}, original {original:.5f}"
-          .format(**means) + f"; relit / original {summary['relit_over_original']:.2f}.")
+          .format(**means) + "; relit / original {}.".format("n/a (the original's is 0)" if ratio is None
+                                                             else f"{ratio:.2f}"))
     return 0
 
 

@@ -77,6 +77,43 @@ def test_a_mesh_whose_colour_is_no_image_is_painted_from_a_bake_and_shaded_by_a_
     assert monkey["modifiers"] == [] and monkey["normal_map_uv"] == ["UVMap"]
 
 
+def test_a_second_painting_is_painted_from_the_original_source_never_from_the_first_painting(found):
+    again = _step(found, "painted_again_from_the_original")
+    sphere, monkey = again["sphere"], again["monkey"]
+    assert sphere["result"] == ["FINISHED"], sphere["error"]
+    assert sphere["input"].endswith("chelsea.png") and sphere["same_colours"]      # same seed: the same colours
+    assert sphere["slots"] == ["Paint Relief Sphere"] and sphere["relief_shown"] == [True, True]
+    assert monkey["result"] == ["FINISHED"], monkey["error"]
+    assert monkey["input"].endswith("monkey_again/source.png") and monkey["same_colours"]
+    assert monkey["bake_share_orange"] > 0.3 and again["images_left"] == []   # a bake of the orange original
+    assert monkey["slots"] == ["Paint Relief Suzanne"]
+
+
+def test_a_refused_run_changes_nothing_in_the_scene_or_the_folder_and_leaves_no_new_folder(found):
+    refused = _step(found, "refused_changes_nothing")
+    assert refused["painted"] == ["FINISHED"], refused["error"]
+    assert refused["refused"] is None and refused["refusal"].strip() == (
+        "Error: Object Cube has no material, so there is no colour to bake: give it a material or choose a "
+        "texture file.")
+    assert MAPS | {"notes.txt"} <= set(refused["files"]) and refused["folder_kept"]   # bytes and names alike
+    assert refused["look_kept"] and refused["slots"] == ["Paint Relief Cube"]
+    assert refused["refused_new"] is None and not refused["new_folder_exists"]
+
+
+def test_the_original_material_and_the_painting_survive_save_and_reopen_and_a_disabled_extension(found):
+    kept = _step(found, "saved_and_reopened")
+    assert {"Photo", "Paint Relief Sphere"} <= set(kept["materials"]) and kept["shows_painting"]
+    assert kept["back"] == ["FINISHED"] and kept["original"] == ["Photo"]
+    assert kept["tree_after"] == kept["tree_before"] and kept["tree_after"]["image"] == "chelsea.png"
+    assert kept["relief_shown"] == [False, False]
+    assert kept["painted_kept"] == "Paint Relief Sphere"                  # saved while the original showed
+    assert kept["again"] == ["FINISHED"] and kept["painted"] == ["Paint Relief Sphere"]
+    assert kept["relief_again"] == [True, True]
+    assert kept["disabled_kept"] == ["Photo", "Paint Relief Sphere"]
+    assert kept["duplicate_original"] == ["Photo"]
+    assert kept["legacy_original"] == ["Photo"] and kept["legacy_adopted"] == [False, "Photo", True]
+
+
 def test_relief_levels_give_about_a_vertex_for_every_four_by_four_texels():
     assert values.relief_levels(1024, 1024) == 3               # 1024 x 4^3 = 65536 faces for 256^2 texels
     assert values.relief_levels(6, 2048) == 6                  # a cube: at most 6 levels
@@ -90,7 +127,8 @@ def test_relief_levels_give_about_a_vertex_for_every_four_by_four_texels():
 
 def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measures_the_films(tmp_path):
     """sample_scenes/paint_object.py on its demo scene: the maps, three turntable films and side by side, the
-    islands' texels 4x apart, and the warping error of each film from view to view by the Vector pass."""
+    islands' texels 4x apart, and the warping error of each film from view to view by the Vector pass. A refused
+    run leaves no folder it made, and the folder of an earlier painting (with the user's own files) as it was."""
     need_bpy()
     script = Path(__file__).resolve().parents[1] / "sample_scenes" / "paint_object.py"
     run = subprocess.run([sys.executable, str(script), "-o", str(tmp_path / "out"), "--views", "3", "--samples", "2",
@@ -123,3 +161,13 @@ def test_the_headless_script_paints_the_demo_box_films_it_three_ways_and_measure
                              env=dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user")))
     assert refused.returncode == 1 and refused.stderr.strip().endswith(f"The scene {tmp_path / 'none.blend'} does "
                                                                        f"not exist.")
+    assert not (tmp_path / "x").exists()                        # a refused run leaves no folder it made
+    (out / "maps" / "normal.exr").mkdir()                       # the user's folder where the painter must write
+    (out / "maps" / "normal.exr" / "mine.txt").write_text("the user's own file")
+    before = {path: path.read_bytes() for path in out.rglob("*") if path.is_file()}
+    refused = subprocess.run([sys.executable, str(script), "-o", str(out), "--views", "2", "--texture-size", "1024",
+                              "--relief", "NORMAL_MAP"], capture_output=True, text=True, timeout=600, cwd=tmp_path,
+                             env=dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user")))
+    assert refused.returncode == 1 and refused.stderr.strip().endswith(
+        f"Cannot write {out / 'maps' / 'normal.exr'}: a folder of that name is in the way."), refused.stderr[-3000:]
+    assert {path: path.read_bytes() for path in out.rglob("*") if path.is_file()} == before   # the earlier painting

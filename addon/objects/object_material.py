@@ -9,10 +9,22 @@ simple subdivision, which keeps the object's shape, then a Displace modifier
 reading the height map through the UV map); with ``CYCLES_ADAPTIVE``, the
 material's Displacement moves it at render time over a Subdivision Surface
 that Cycles dices adaptively, as a canvas's can; with ``NORMAL_MAP``, the
-painter's normal map shades it and its geometry stays. The
-materials the object had are remembered on the object (ORIGINALS_KEY, by
-name), so one toggle shows them again and another the painting.
+painter's normal map shades it and its geometry stays.
+
+The materials the object had and its painted material are held on the
+object by ID properties that point at them (ORIGINALS_KEY: {"slots": the
+number of material slots, "materials": {slot index: material}}, empty slots
+left out; PAINTED_KEY: the painted material). Such a pointer is a user of
+the material, so Blender writes it into the file whichever of the two the
+object shows, keeps it through undo and object duplication, and keeps it
+with the extension disabled (ID properties need no registration). One
+toggle shows the originals again and another the painting. Files painted
+before kept the originals by name (LEGACY_ORIGINALS_KEY, a list of names)
+and the painted material by name: a material of that name that still exists
+is adopted the next time the object is painted or toggled.
 """
+
+import contextlib
 
 import bpy
 
@@ -21,7 +33,8 @@ from ..scene import canvas_plane, maps
 from ..scene import material as canvas_material
 from .surface import uv_map_name
 
-ORIGINALS_KEY = "paint_relief_original_materials"
+ORIGINALS_KEY = "paint_relief_originals"
+LEGACY_ORIGINALS_KEY = "paint_relief_original_materials"
 PAINTED_KEY = values.PAINTED_MATERIAL_KEY
 
 
@@ -60,18 +73,18 @@ def remove_relief(obj):
 def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
     """Give ``obj`` of ``scene`` the painting in ``folder``: its painted material in every slot (made, or updated
     when it has one) and the relief (``relief``: 'DISPLACE', 'CYCLES_ADAPTIVE' or 'NORMAL_MAP'); the materials it
-    had are remembered the first time. Returns the material. Raises maps.CanvasError (before changing anything)
-    when a map cannot be used."""
+    shows are kept as its originals unless it shows its painting (those it had before stay kept then). Returns
+    the material. Raises maps.CanvasError (before changing anything) when a map cannot be used."""
     normal_map, adaptive = relief == "NORMAL_MAP", relief == "CYCLES_ADAPTIVE"
     images = maps.load_maps(folder, values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ()))
-    painted = bpy.data.materials.get(obj.get(PAINTED_KEY, "")) if obj.get(PAINTED_KEY) else None
+    painted = painted_material(obj)
     if painted is None:
         painted = bpy.data.materials.new("Paint Relief " + obj.name)
     canvas_material.build_material(painted, images, thickness, adaptive, normal_map, uv_map_name(obj))
     canvas_material.set_material_displacement(painted, "DISPLACEMENT" if adaptive else "BUMP")
-    if ORIGINALS_KEY not in obj:
-        obj[ORIGINALS_KEY] = [slot.material.name if slot.material else "" for slot in obj.material_slots]
-    obj[PAINTED_KEY] = painted.name
+    keep_originals(obj, (original_materials(obj) or []) if shows_painting(obj) else
+                   [slot.material for slot in obj.material_slots])
+    obj[PAINTED_KEY] = painted
     remove_relief(obj)
     if adaptive:
         canvas_plane.add_adaptive_subdivision(scene, obj)
@@ -81,27 +94,103 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
     return painted
 
 
+def painted_material(obj):
+    """``obj``'s painted material (PAINTED_KEY: the material, or its name in a file painted before), or None."""
+    painted = obj.get(PAINTED_KEY)
+    if isinstance(painted, str):
+        return bpy.data.materials.get(painted) if painted else None
+    return painted if isinstance(painted, bpy.types.Material) else None
+
+
+def original_materials(obj):
+    """The materials ``obj`` had in its slots before Paint Object, one per slot (None for an empty one or one
+    whose material no longer exists), or None when none are kept. Read only (a panel may call it)."""
+    kept = obj.get(ORIGINALS_KEY)
+    if kept is not None:
+        materials = kept.get("materials", {})
+        return [materials.get(str(index)) for index in range(int(kept.get("slots", 0)))]
+    names = obj.get(LEGACY_ORIGINALS_KEY)
+    if names is None:
+        return None
+    return [bpy.data.materials.get(name) if name else None for name in names]
+
+
+def keep_originals(obj, materials):
+    """Hold ``materials`` (one per slot, None for an empty slot) on ``obj`` as its originals, by reference (they
+    have a user then); the by-name list of a file painted before goes."""
+    obj[ORIGINALS_KEY] = {"slots": len(materials),
+                          "materials": {str(index): material for index, material in enumerate(materials)
+                                        if material is not None}}
+    if LEGACY_ORIGINALS_KEY in obj:
+        del obj[LEGACY_ORIGINALS_KEY]
+
+
+def source_materials(obj):
+    """The materials the texture of ``obj`` is painted from: its originals while it shows its painting, else
+    those it shows (never the painting itself)."""
+    if shows_painting(obj):
+        return [material for material in original_materials(obj) or [] if material is not None]
+    return [slot.material for slot in obj.material_slots if slot.material is not None]
+
+
 def shows_painting(obj):
     """Whether ``obj`` shows its painted material now."""
+    painted = painted_material(obj)
+    return painted is not None and any(slot.material == painted for slot in obj.material_slots)
+
+
+def _adopt(obj):
+    """Hold a file painted before's painted material and originals by reference (those that still exist)."""
     painted = obj.get(PAINTED_KEY)
-    return bool(painted) and any(slot.material is not None and slot.material.name == painted
-                                 for slot in obj.material_slots)
+    if isinstance(painted, str):
+        material = painted_material(obj)
+        if material is not None:
+            obj[PAINTED_KEY] = material
+    if ORIGINALS_KEY not in obj and LEGACY_ORIGINALS_KEY in obj:
+        keep_originals(obj, original_materials(obj))
 
 
 def show_painting(obj, painted):
     """Show ``obj``'s painted material and relief (``painted``), or the materials it had before Paint Object and
     no relief."""
-    material = bpy.data.materials.get(obj.get(PAINTED_KEY, ""))
+    _adopt(obj)
+    _show(obj, painted)
+
+
+def _show(obj, painted):
+    """``show_painting`` without adopting what a file painted before names."""
+    material = painted_material(obj)
     if painted and material is not None:
         if not obj.material_slots:
             obj.data.materials.append(material)
         for slot in obj.material_slots:
             slot.material = material
     elif not painted:
-        originals = list(obj.get(ORIGINALS_KEY, []))
-        for slot, name in zip(obj.material_slots, originals, strict=False):   # slots added since keep theirs
-            slot.material = bpy.data.materials.get(name) if name else None
+        originals = original_materials(obj) or []
+        for slot, original in zip(obj.material_slots, originals, strict=False):   # slots added since keep theirs
+            slot.material = original
         if not originals:
             obj.data.materials.clear()
     for modifier in relief_modifiers(obj):
         modifier.show_viewport = modifier.show_render = bool(painted)
+
+
+@contextlib.contextmanager
+def original_shown(obj):
+    """For the block, ``obj`` shows the materials it had before Paint Object and no relief when it shows its
+    painting now (to read or bake its source); afterwards its slots and relief modifiers are exactly as before."""
+    if not shows_painting(obj):
+        yield
+        return
+    slots = [slot.material for slot in obj.material_slots]
+    shown = [(modifier, modifier.show_viewport, modifier.show_render) for modifier in relief_modifiers(obj)]
+    _show(obj, False)
+    try:
+        yield
+    finally:
+        while len(obj.material_slots) < len(slots):
+            obj.data.materials.append(None)
+        for slot, material in zip(obj.material_slots, slots, strict=False):
+            slot.material = material
+        for modifier, viewport, render in shown:
+            modifier.show_viewport, modifier.show_render = viewport, render

@@ -4,9 +4,10 @@ map, and switch between the painted material and the one the object had.
 
 Paint Object gathers on the main thread what the painter needs: the mesh's
 triangles and the texture's source (``surface.texture_source``, which may
-bake). The work is one call of ``core.paint_object``, in a worker thread with
-the progress bar and Esc interactively, or at once headless
-(``modal_job``). Once it is done, the object gets its painted material and
+bake; an object painted before shows its original materials meanwhile, so
+its source is theirs, never the painting). The work is one call of
+``core.paint_object``, in a worker thread with the progress bar and Esc
+interactively, or at once headless (``modal_job``). Once it is done, the object gets its painted material and
 relief (``object_material``).
 """
 
@@ -77,7 +78,8 @@ def _prepare(operator, context):
         widths = values.parse_widths(settings.object_stroke_mm)
         folder = object_output_dir(context, obj)
         properties.check_output_folder(folder)
-        source, _ = surface.texture_source(context, obj, settings.object_texture_path, size, scratch)
+        with object_material.original_shown(obj):  # a painted object's source is its original's, never the painting
+            source, _ = surface.texture_source(context, obj, settings.object_texture_path, size, scratch)
         uv, position = surface.mesh_triangles(context, obj)
     except (ValueError, RuntimeError, core.PaintReliefError) as error:
         shutil.rmtree(scratch, ignore_errors=True)

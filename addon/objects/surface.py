@@ -60,11 +60,10 @@ def mesh_triangles(context, obj):
             points[vertices].reshape(count, 3, 3))
 
 
-def base_color_image(obj):
+def base_color_image(obj, materials=None):
     """The image an Image Texture node feeds into the Base Color of a Principled BSDF of the object's materials
-    (the first found, slot by slot), or None."""
-    for slot in obj.material_slots:
-        material = slot.material
+    (the first found, slot by slot; or of ``materials`` when given), or None."""
+    for material in [slot.material for slot in obj.material_slots] if materials is None else materials:
         if material is None or material.node_tree is None:
             continue
         for node in material.node_tree.nodes:

@@ -10,7 +10,9 @@ The repository is loaded as the package ``paint_relief`` and registered as
 Blender would. A UV sphere whose material's Base Color comes from an image is
 painted at 1024 texels with displacement; Suzanne, which has no UV map, is
 refused in one sentence, unwrapped by Smart UV Project and painted from a bake
-of its diffuse colour with the Normal Map relief. Each check stores its
+of its diffuse colour with the Normal Map relief. Both are painted again (from
+their originals), a cube's refused run changes nothing, and the file is
+saved and reopened with the original and the painting in it. Each check stores its
 findings under its name (a check that raises stores its traceback). The last
 line printed is ``RESULTS <json>``.
 """
@@ -185,6 +187,149 @@ def monkey_baked_with_a_normal_map():
             "modifiers": [m.name for m in monkey.modifiers],
             "normal_map_uv": [node.uv_map for node in monkey.material_slots[0].material.node_tree.nodes
                               if node.bl_idname == "ShaderNodeNormalMap"]}
+
+
+def listing(folder):
+    """{file name: its bytes} of ``folder``'s files."""
+    return {name: open(os.path.join(folder, name), "rb").read() for name in sorted(os.listdir(folder))}
+
+
+def colour_map(folder):
+    """The painted colour of ``folder`` (color.exr) as a nested list."""
+    from paint_relief.core.files.reading import read_image
+
+    return read_image(os.path.join(folder, "color.exr")).tolist()
+
+
+@check
+def painted_again_from_the_original():
+    """The painted sphere and Suzanne painted a second time (same seed): from the photograph and from a bake of
+    the orange material, never from their paintings."""
+    import numpy as np
+    from paint_relief.core.files.reading import read_image
+
+    sphere, monkey = bpy.data.objects["Sphere"], bpy.data.objects["Suzanne"]
+    found = {}
+    for obj, folder, relief in ((sphere, "sphere", "DISPLACE"), (monkey, "monkey", "NORMAL_MAP")):
+        bpy.ops.object.select_all(action="DESELECT")
+        obj.select_set(True)
+        bpy.context.view_layer.objects.active = obj
+        settings.object_relief = relief
+        settings.object_output_dir = os.path.join(WORK, folder + "_again")
+        result, error = run(bpy.ops.paint_relief.paint_object)
+        with open(os.path.join(settings.object_output_dir, "report.json")) as report:
+            named = json.load(report)["input"]
+        found[folder] = {"result": result, "error": error, "input": named,
+                         "same_colours": colour_map(os.path.join(WORK, folder)) == colour_map(
+                             settings.object_output_dir),
+                         "slots": [slot.material.name for slot in obj.material_slots],
+                         "relief_shown": [m.show_render for m in obj.modifiers]}
+    source = read_image(os.path.join(WORK, "monkey_again", "source.png")).reshape(-1, 3)
+    orange = np.array([0.8, 0.3, 0.05]) ** (1 / 2.2)
+    found["monkey"]["bake_share_orange"] = float(np.mean(np.abs(source - orange).max(axis=1) < 0.05))
+    found["images_left"] = [image.name for image in bpy.data.images if image.name.startswith("Paint Relief Bake")]
+    return found
+
+
+@check
+def refused_changes_nothing():
+    """A cube painted from a texture file, then painted again without one: its original has no material to bake,
+    so the run is refused in one sentence; its slots, relief, earlier painting and the user's own file in that
+    folder are as they were, and a refused run into a new folder leaves no folder."""
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.ops.mesh.primitive_cube_add(size=0.4, location=(0.0, 3.0, 0.0))
+    cube = bpy.context.active_object
+    cube.name = "Cube"
+    settings.object_relief = "DISPLACE"
+    settings.object_texture_path = os.path.join(REPO, "sample_scenes", "coffee.png")
+    folder = settings.object_output_dir = os.path.join(WORK, "cube")
+    painted, error = run(bpy.ops.paint_relief.paint_object)
+    with open(os.path.join(folder, "notes.txt"), "w") as notes:
+        notes.write("the user's own file")
+    before = listing(folder)
+    look = ([slot.material.name for slot in cube.material_slots],
+            [(m.name, m.show_viewport, m.show_render) for m in cube.modifiers])
+    settings.object_texture_path = ""
+    refused, refusal = run(bpy.ops.paint_relief.paint_object)
+    after = listing(folder)
+    settings.object_output_dir = os.path.join(WORK, "cube_new", "maps")
+    refused_new, refusal_new = run(bpy.ops.paint_relief.paint_object)
+    return {"painted": painted, "error": error, "refused": refused, "refusal": refusal,
+            "files": sorted(before), "folder_kept": before == after,
+            "look_kept": look == ([slot.material.name for slot in cube.material_slots],
+                                  [(m.name, m.show_viewport, m.show_render) for m in cube.modifiers]),
+            "slots": look[0], "refused_new": refused_new, "refusal_new": refusal_new,
+            "new_folder_exists": os.path.exists(os.path.join(WORK, "cube_new"))}
+
+
+def node_tree(material):
+    """What shows of ``material``'s node tree: its nodes' types and its links (from node type to node type:
+    socket), sorted."""
+    tree = material.node_tree
+    return {"nodes": sorted(node.bl_idname for node in tree.nodes),
+            "links": sorted("{} -> {}: {}".format(link.from_node.bl_idname, link.to_node.bl_idname,
+                                                  link.to_socket.name) for link in tree.links),
+            "image": next((node.image.name for node in tree.nodes
+                           if node.bl_idname == "ShaderNodeTexImage" and node.image is not None), None)}
+
+
+def reopened(name):
+    """Save the file as WORK/``name`` and open it again; returns the sphere."""
+    path = os.path.join(WORK, name)
+    bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    sphere = bpy.data.objects["Sphere"]
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj == sphere)
+    bpy.context.view_layer.objects.active = sphere
+    return sphere
+
+
+@check
+def saved_and_reopened():
+    """The sphere's original material and its painting survive save and reopen whichever it shows (no other user
+    holds the one not shown), with the extension enabled and disabled, and in a duplicate; a file that named its
+    original (painted before) gets it adopted."""
+    import paint_relief
+    from paint_relief.addon.objects import object_material
+
+    sphere = bpy.data.objects["Sphere"]
+    tree = node_tree(bpy.data.materials["Photo"])
+    users = bpy.data.materials["Photo"].users
+    sphere = reopened("painted.blend")                                  # shows the painting
+    found = {"tree_before": tree, "photo_users": users, "materials": sorted(m.name for m in bpy.data.materials),
+             "shows_painting": object_material.shows_painting(sphere)}
+    found["back"], _ = run(bpy.ops.paint_relief.object_painting, show=False)
+    found["original"] = [slot.material.name for slot in sphere.material_slots]
+    found["tree_after"] = node_tree(sphere.material_slots[0].material)
+    found["relief_shown"] = [m.show_render for m in sphere.modifiers]
+    sphere = reopened("original.blend")                                 # shows the original
+    found["painted_kept"] = sphere.get(object_material.PAINTED_KEY).name
+    found["again"], _ = run(bpy.ops.paint_relief.object_painting, show=True)
+    found["painted"] = [slot.material.name for slot in sphere.material_slots]
+    found["relief_again"] = [m.show_render for m in sphere.modifiers]
+    paint_relief.unregister()                                           # the extension disabled
+    sphere = reopened("disabled.blend")
+    found["disabled_kept"] = [object_material.original_materials(sphere)[0].name,
+                              object_material.painted_material(sphere).name]
+    paint_relief.register()
+    bpy.ops.object.duplicate()
+    copy = bpy.context.active_object
+    object_material.show_painting(copy, False)
+    found["duplicate_original"] = [slot.material.name for slot in copy.material_slots]
+    bpy.data.objects.remove(copy)
+    photo = bpy.data.materials["Photo"]                                 # as a file painted before kept it
+    photo.use_fake_user = True                                          # (by name, held by something else)
+    sphere[object_material.LEGACY_ORIGINALS_KEY] = ["Photo"]
+    sphere[object_material.PAINTED_KEY] = sphere[object_material.PAINTED_KEY].name
+    del sphere[object_material.ORIGINALS_KEY]
+    object_material.show_painting(sphere, False)
+    found["legacy_original"] = [slot.material.name for slot in sphere.material_slots]
+    found["legacy_adopted"] = [object_material.LEGACY_ORIGINALS_KEY in sphere,
+                               object_material.original_materials(sphere)[0].name,
+                               isinstance(sphere[object_material.PAINTED_KEY], bpy.types.Material)]
+    object_material.show_painting(sphere, True)
+    return found
 
 
 print("RESULTS " + json.dumps(RESULTS))
