@@ -11,8 +11,8 @@ leave are exactly those after each of these calls (ALICE, Pillai et al. 2014, re
 ``run_command(arguments, watched, crash_after=k)`` runs ``python -m core ARGUMENTS`` in a child process forked from
 a server that loaded the painter once (``multiprocessing``'s forkserver: a run costs its work, not the interpreter's
 start), patches ``os`` and ``open`` in that child only, lets the first ``k`` boundaries under ``watched`` happen
-and ends the process with ``os._exit`` right after the ``k``-th, in whatever thread makes it: no ``finally``, no
-clean-up, no flush, as SIGKILL. Nothing in the shipped code knows of it. ``crash_after=None`` runs to the end and
+and sends SIGKILL to the child's process group right after the ``k``-th, in whatever thread makes it: no
+``finally``, no clean-up, no flush, and the processes it started (a local cluster's workers) die with it. Nothing in the shipped code knows of it. ``crash_after=None`` runs to the end and
 records every boundary, which is how a matrix learns how many points it has.
 
 Run a matrix from the command line (one line per crash point that falls short, the counts per matrix)::
@@ -45,8 +45,8 @@ for _path in (str(ROOT), str(TESTS)):
     if _path not in sys.path:
         sys.path.insert(0, _path)
 
-CRASHED = 137
-"""The exit status of a child ended at its crash point (128 + SIGKILL, as a shell reports a killed process)."""
+CRASHED = -signal.SIGKILL
+"""The exit code of a child ended at its crash point: killed by SIGKILL, with every process it started."""
 _WRITE_FLAGS = os.O_CREAT | os.O_TRUNC
 
 
@@ -94,7 +94,7 @@ class _Watch:
             self.made.append(Boundary(call, paths))
             if self.crash_after is not None and len(self.made) >= self.crash_after:
                 self.save()
-                os._exit(CRASHED)
+                os.killpg(0, signal.SIGKILL)  # this process and all it started (a local cluster's workers)
 
     def save(self) -> None:
         with _ORIGINAL["open"](self.record, "w") as f:
@@ -221,24 +221,18 @@ def _server():
 
 
 def run_command(arguments: list, watched: Sequence[Path], crash_after: Optional[int] = None,
-                timeout: float = 300) -> Run:
+                timeout: float = 600) -> Run:
     """``python -m core ARGUMENTS`` in a forked child, ended right after its ``crash_after``-th write boundary
-    under ``watched`` (None: run to the end). Every process the child started (a local cluster's workers) is
-    killed with it."""
+    under ``watched`` (None: run to the end); ``timeout`` seconds only guard against a hang."""
     with tempfile.TemporaryDirectory(prefix="crash-run-") as scratch:
         record, stderr_path = os.path.join(scratch, "boundaries.json"), os.path.join(scratch, "stderr")
         child = _server().Process(target=_child, args=(list(arguments), [str(w) for w in watched], crash_after,
                                                        record, stderr_path))
         child.start()
         child.join(timeout)
-        if child.exitcode is None:
-            child.kill()
+        if child.exitcode is None:  # a hang: the child's session, what it started included, is ended
+            os.killpg(child.pid, signal.SIGKILL)
             child.join()
-        try:
-            os.killpg(child.pid, signal.SIGKILL)  # its session: what it started dies with it, as on a lost machine
-        except (ProcessLookupError, PermissionError):
-            pass
-        if child.exitcode is None:
             raise AssertionError(f"python -m core {' '.join(map(str, arguments))} ran past {timeout} s")
         stderr = Path(stderr_path).read_text(errors="replace") if os.path.exists(stderr_path) else ""
         try:

