@@ -4,9 +4,8 @@ the way back to the material it had.
 
 The painted material is the canvas's shader (``scene.material``) reading the
 maps through the UV map Blender renders with. The relief either displaces
-the object along its normals by thickness x height (a Subdivision Surface of
-simple subdivision, which keeps the object's shape, then a Displace modifier
-reading the height map through the UV map); with ``CYCLES_ADAPTIVE``, the
+the object along its normals by thickness x height, keeping its shape and
+shading (the modifiers of ``relief``); with ``CYCLES_ADAPTIVE``, the
 material's Displacement moves it at render time over a Subdivision Surface
 that Cycles dices adaptively, as a canvas's can; with ``NORMAL_MAP``, the
 painter's normal map shades it and its geometry stays. The
