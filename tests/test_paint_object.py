@@ -13,6 +13,8 @@ from blender_run import need_bpy, run_checks
 from blender_run import step as _step
 
 HELPER = Path(__file__).resolve().parent / "blender" / "object_checks.py"
+RELIEF = [["Paint Relief Normals", "WEIGHTED_NORMAL"], ["Paint Relief Triangles", "TRIANGULATE"],
+          ["Paint Relief Subdivision", "SUBSURF"], ["Paint Relief Displace", "DISPLACE"]]
 MAPS = {"color.exr", "height.exr", "opacity.exr", "orientation.exr", "painting.png", "report.json", "strokes.json"}
 
 
@@ -29,7 +31,7 @@ def test_a_sphere_is_painted_from_its_base_color_image_and_displaced_by_its_reli
     assert MAPS <= set(sphere["files"]) and sphere["input"].endswith("chelsea.png")
     assert sphere["width"] == 1024 and sphere["islands"] == 1
     assert sphere["slots"] == ["Paint Relief Sphere"]
-    assert sphere["modifiers"] == [["Paint Relief Subdivision", "SUBSURF"], ["Paint Relief Displace", "DISPLACE"]]
+    assert sphere["modifiers"] == RELIEF
     assert sphere["displace_uv"] == "UVMap" and sphere["strength"] == pytest.approx(0.002)
     assert sphere["render_levels"] == values.relief_levels(32 * 16, 1024)
 
@@ -37,9 +39,9 @@ def test_a_sphere_is_painted_from_its_base_color_image_and_displaced_by_its_reli
 def test_the_original_material_comes_back_with_one_toggle_and_the_painting_with_another(found):
     toggled = _step(found, "original_material_back")
     assert toggled["back"] == ["FINISHED"] and toggled["original"] == ["Photo"]
-    assert toggled["relief_shown"] == [False, False]
+    assert toggled["relief_shown"] == [False] * len(RELIEF)
     assert toggled["again"] == ["FINISHED"] and toggled["painted"] == ["Paint Relief Sphere"]
-    assert toggled["relief_again"] == [True, True]
+    assert toggled["relief_again"] == [True] * len(RELIEF)
     assert toggled["thicker"] == pytest.approx([0.004, 0.004])      # the panel's thickness reaches the object
 
 
@@ -47,8 +49,22 @@ def test_the_relief_can_be_cycles_material_displacement_over_an_adaptive_subdivi
     sphere = _step(found, "sphere_with_cycles_displacement")
     assert sphere["modifiers"] == [["Paint Relief Subdivision", "SUBSURF"]] and sphere["adaptive"]
     assert sphere["method"] == "DISPLACEMENT" and sphere["displacement_linked"] == ["ShaderNodeDisplacement"]
-    assert sphere["then_modifiers"] == [["Paint Relief Subdivision", "SUBSURF"], ["Paint Relief Displace", "DISPLACE"]]
+    assert sphere["then_modifiers"] == RELIEF
     assert sphere["then_linked"] == [] and sphere["then_method"] == "BUMP"
+
+
+def test_painting_keeps_the_shape_and_the_smooth_or_flat_shading_and_only_the_paint_adds_relief(found):
+    kept = _step(found, "shape_and_shading_kept")
+    relief = [name for name, _ in RELIEF]
+    monkey, cube = kept["monkey"], kept["cube"]
+    assert monkey["modifiers"] == ["Twist"] + relief and kept["twist_angle"] == pytest.approx(0.3)
+    # Relief 0: at each face's centre the painted Suzanne shades as the original's interpolated smooth normals
+    # (a simple subdivision shading each low-poly face flat gave 18.3 degrees on average, 45.7 at the 95th percentile)
+    assert monkey["faces"] > 4000 and monkey["mean"] < 1.0 and monkey["p95"] < 3.0
+    assert cube["modifiers"] == relief and cube["mean"] < 0.1 and cube["p95"] < 0.1
+    assert cube["axis_stray"] < 0.1 and cube["off_surface"] < 1e-5        # still a cube, its faces flat
+    assert monkey["moved_mm"] > 1.0 and cube["moved_mm"] > 1.0             # the paint's relief moves the surface
+    assert kept["custom"]["modifiers"] == relief[1:] and kept["custom"]["lowest_up"] > 0.999   # the user's normals
 
 
 def test_paint_object_with_hertzmann_1998_is_one_sentence_and_writes_nothing_and_the_panel_says_so(found):

@@ -432,8 +432,8 @@ class PaintReliefSettings(PropertyGroup):
         name="Relief",
         description="How the paint's thickness shows on the object",
         items=(
-            ("DISPLACE", "Displace", "A simple Subdivision Surface and a Displace modifier move the surface along "
-             "its normals by the paint's height"),
+            ("DISPLACE", "Displace", "Modifiers after the object's own subdivide it and move the surface along "
+             "its normals by the paint's height, keeping its shape and its smooth or flat shading"),
             ("NORMAL_MAP", "Normal Map", "The painter's normal map shades the surface; its geometry stays"),
             ("CYCLES_ADAPTIVE", "Cycles Displacement", "Cycles moves the surface along its normals by the "
              "material's Displacement at render time, subdivided adaptively (renders in Cycles only)"),

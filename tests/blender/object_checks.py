@@ -110,6 +110,110 @@ def sphere_with_cycles_displacement():
     return found
 
 
+def evaluated(obj):
+    """``obj``'s evaluated mesh as arrays: vertex positions, corner normals, each face's centre and loop start and
+    size, and its triangles' vertices and corners (object space)."""
+    import numpy as np
+
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    mesh = obj.evaluated_get(depsgraph).to_mesh()
+    mesh.calc_loop_triangles()
+    found = {"co": np.zeros(3 * len(mesh.vertices)), "normals": np.zeros(3 * len(mesh.loops)),
+             "centre": np.zeros(3 * len(mesh.polygons)), "start": np.zeros(len(mesh.polygons), dtype=np.int32),
+             "total": np.zeros(len(mesh.polygons), dtype=np.int32),
+             "tri_vertices": np.zeros(3 * len(mesh.loop_triangles), dtype=np.int32),
+             "tri_loops": np.zeros(3 * len(mesh.loop_triangles), dtype=np.int32),
+             "loop_vertex": np.zeros(len(mesh.loops), dtype=np.int32)}
+    mesh.vertices.foreach_get("co", found["co"])
+    mesh.corner_normals.foreach_get("vector", found["normals"])
+    mesh.polygons.foreach_get("center", found["centre"])
+    mesh.polygons.foreach_get("loop_start", found["start"])
+    mesh.polygons.foreach_get("loop_total", found["total"])
+    mesh.loop_triangles.foreach_get("vertices", found["tri_vertices"])
+    mesh.loop_triangles.foreach_get("loops", found["tri_loops"])
+    mesh.loops.foreach_get("vertex_index", found["loop_vertex"])
+    obj.evaluated_get(depsgraph).to_mesh_clear()
+    for key in ("co", "normals", "centre"):
+        found[key] = found[key].reshape(-1, 3)
+    for key in ("tri_vertices", "tri_loops"):
+        found[key] = found[key].reshape(-1, 3)
+    return found
+
+
+def shading_angles(reference, painted):
+    """Degrees between the shading normal at each face centre of the ``painted`` mesh (the mean of its corner
+    normals) and the ``reference`` mesh's normal interpolated at that point of its nearest triangle."""
+    import numpy as np
+    from mathutils import Vector
+    from mathutils.bvhtree import BVHTree
+
+    tree = BVHTree.FromPolygons([Vector(c) for c in reference["co"]], reference["tri_vertices"].tolist())
+    faces = np.repeat(np.arange(len(painted["start"])), painted["total"])
+    sums = np.zeros((len(painted["start"]), 3))
+    np.add.at(sums, faces, painted["normals"])
+    mine = sums / np.linalg.norm(sums, axis=1, keepdims=True)
+    angles = []
+    for centre, normal in zip(painted["centre"], mine, strict=True):
+        location, _, index, _ = tree.find_nearest(Vector(centre))
+        a, b, c = reference["co"][reference["tri_vertices"][index]]
+        p = np.array(location)
+        area = np.cross(b - a, c - a)
+        weights = np.array([np.cross(c - b, p - b) @ area, np.cross(a - c, p - c) @ area,
+                            np.cross(b - a, p - a) @ area]) / (area @ area)
+        theirs = weights @ reference["normals"][reference["tri_loops"][index]]
+        theirs /= np.linalg.norm(theirs)
+        angles.append(np.degrees(np.arccos(np.clip(normal @ theirs, -1.0, 1.0))))
+    return np.array(angles)
+
+
+@check
+def shape_and_shading_kept():
+    """Relief 0 on a smooth-shaded Suzanne with a modifier of the user's own: the painted mesh's shading normals
+    are the original's interpolated normals (no facets), the user's modifier stays first; a flat-shaded cube
+    stays a cube with sharp normals; a mesh with custom normals keeps them; relief on moves the surface."""
+    import numpy as np
+    from paint_relief.addon.objects import object_material
+
+    scene, folder = bpy.context.scene, settings.object_output_dir
+    bpy.ops.mesh.primitive_monkey_add(size=1.0, location=(0.0, 3.0, 0.0))
+    monkey = bpy.context.active_object
+    monkey.name = "Smooth Suzanne"
+    bpy.ops.object.shade_smooth()
+    twist = monkey.modifiers.new("Twist", "SIMPLE_DEFORM")
+    twist.angle = 0.3
+    bpy.ops.mesh.primitive_cube_add(size=0.4, location=(0.0, -3.0, 0.0))
+    cube = bpy.context.active_object
+    cube.name = "Flat Cube"
+    bpy.ops.object.shade_flat()
+    found = {}
+    for name, obj in (("monkey", monkey), ("cube", cube)):
+        reference = evaluated(obj)
+        object_material.paint_object_look(scene, obj, folder, 0.002, "DISPLACE", 1024)
+        displace = obj.modifiers["Paint Relief Displace"]
+        displace.strength = 0.0
+        painted = evaluated(obj)
+        angles = shading_angles(reference, painted)
+        found[name] = {"modifiers": [m.name for m in obj.modifiers], "mean": float(angles.mean()),
+                       "p95": float(np.percentile(angles, 95)), "faces": len(painted["start"])}
+        if name == "cube":
+            normals = painted["normals"]
+            found[name]["axis_stray"] = float(np.degrees(np.arccos(np.abs(normals).max(axis=1).min())))
+            found[name]["off_surface"] = float(np.abs(np.abs(painted["co"]).max(axis=1) - 0.2).max())
+        displace.strength = 0.002
+        relief = evaluated(obj)
+        found[name]["moved_mm"] = float(1000 * np.linalg.norm(relief["co"] - painted["co"], axis=1).max())
+    found["twist_angle"] = monkey.modifiers["Twist"].angle
+    mesh = cube.data.copy()
+    mesh.normals_split_custom_set_from_vertices([(0.0, 0.0, 1.0)] * len(mesh.vertices))
+    custom = bpy.data.objects.new("Custom", mesh)
+    scene.collection.objects.link(custom)
+    object_material.paint_object_look(scene, custom, folder, 0.002, "DISPLACE", 1024)
+    custom.modifiers["Paint Relief Displace"].strength = 0.0
+    up = evaluated(custom)["normals"]
+    found["custom"] = {"modifiers": [m.name for m in custom.modifiers], "lowest_up": float(up[:, 2].min())}
+    return found
+
+
 class Labels:
     """A panel layout that records the labels it is asked to show and takes everything else silently."""
 

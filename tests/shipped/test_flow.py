@@ -153,7 +153,10 @@ def test_paint_object_paints_a_sphere_from_its_base_color_and_gives_back_its_mat
     found = _step(flow, "paint_object_from_its_base_color")
     assert found["result"] == ["FINISHED"], found["error"]
     assert {"color.exr", "height.exr", "opacity.exr", "report.json", "source.png"} <= set(found["files"])
-    assert found["slots"] == ["Paint Relief Sphere"] and found["modifiers"] == ["SUBSURF", "DISPLACE"]
+    assert found["slots"] == ["Paint Relief Sphere"]
+    # the Triangulate modifier only where it keeps custom normals exactly (Blender 5.x), addon/objects/relief.py
+    assert found["modifiers"] in (["WEIGHTED_NORMAL", "TRIANGULATE", "SUBSURF", "DISPLACE"],
+                                  ["WEIGHTED_NORMAL", "SUBSURF", "DISPLACE"])
     assert found["back"] == ["FINISHED"] and found["original"] == ["Generated colour"]
 
 
