@@ -34,6 +34,7 @@ from ..resample import resize_area
 from ..results import Painting
 from ..strokes.canvas import Canvas
 from ..strokes.stroke import Stroke
+from .apron import Apron, Carry, SeamCharts, carried, has_seams, island_apron, island_bilinear, seam_charts
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
@@ -45,15 +46,19 @@ class SurfaceLayout(NamedTuple):
     islands: np.ndarray         # (N, N) int32, 0 (no surface) or the island 1 .. K of each texel
     density: TexelDensity       # the islands' metres per UV unit (``islands.texel_density``)
     edges: Optional[EdgeSamples] = None     # where the texture's steps across seams and inner edges are read
+    charts: Optional[SeamCharts] = None     # the chart maps across the seams (``apron.seam_charts``); None: apart
 
 
-def surface_layout(mesh: SurfaceMesh, size: int) -> SurfaceLayout:
-    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, and the
-    samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them."""
+def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True) -> SurfaceLayout:
+    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, the
+    samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them, and, with
+    ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart)."""
     islands = uv_islands(mesh.uv)
     density = texel_density(mesh.uv, mesh.position, islands)
     offset_m = OFFSET_TEXELS * float(np.nanmax(density.island, initial=0.0)) / size
-    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m))
+    charts = seam_charts(mesh.uv, mesh.position, islands, size) if across_seams else None
+    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m),
+                         charts)
 
 
 def square_texture(image: np.ndarray, size: int) -> np.ndarray:
@@ -109,13 +114,16 @@ class IslandPainting(NamedTuple):
     strokes: List[Stroke]       # in the texture's texel coordinates
     per_layer: List[int]
     sizes: Tuple[int, ...]      # its stroke widths (texels)
+    carry: Optional[Carry] = None   # the paint it laid beyond its seams, for the neighbours' texels
 
 
-def island_box(mask: np.ndarray, margin: int) -> Tuple[slice, slice]:
+def island_box(mask: np.ndarray, margin: int, clipped: bool = True) -> Tuple[slice, slice]:
     """The rows and columns of the box around ``mask`` (H, W) bool's True texels, widened by ``margin`` texels
-    (within the texture)."""
+    (within the texture when ``clipped``, else reaching past it as far as the margin does)."""
     rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
     h, w = mask.shape
+    if not clipped:
+        return slice(rows[0] - margin, rows[-1] + 1 + margin), slice(cols[0] - margin, cols[-1] + 1 + margin)
     return (slice(max(0, rows[0] - margin), min(h, rows[-1] + 1 + margin)),
             slice(max(0, cols[0] - margin), min(w, cols[-1] + 1 + margin)))
 
@@ -130,24 +138,90 @@ def extended(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 
 def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: Tuple[int, ...],
-                 smoothing: float, params: Params, stage: Stage) -> IslandPainting:
+                 smoothing: float, params: Params, stage: Stage, charts: Optional[SeamCharts] = None,
+                 maps: Optional[np.ndarray] = None) -> IslandPainting:
     """Island ``island`` of the (N, N) ``islands`` map painted from (N, N, 3) sRGB [0, 1] ``texture`` with
     strokes of ``sizes`` texels and the reference's bilateral filter ``smoothing`` texels wide (module
     docstring): a still's strokes anchored on the island's texels alone, by the method's stroke painter
-    (``methods.registry.stroke_painter``; ParameterError in one sentence for a method that paints stills only)."""
-    rows, cols = island_box(islands == island, max(sizes) + int(np.ceil(bleed_texels(islands.shape[0]))))
-    mask = islands[rows, cols] == island
-    image = extended(texture[rows, cols], mask)
+    (``methods.registry.stroke_painter``; ParameterError in one sentence for a method that paints stills only).
+    With the layout's seam ``charts``, the box's apron (``apron.island_apron``) shows the surface beyond the
+    seams, the picture and the texture painted so far (``maps`` (N, N, 6): colour, height, opacity, coverage),
+    which the canvas starts from on the island's texels too; the paint its strokes lay there is the carry."""
+    margin = max(sizes) + int(np.ceil(bleed_texels(islands.shape[0])))
+    across = charts is not None and has_seams(charts, island)
+    rows, cols = island_box(islands == island, margin, clipped=not across)
+    box = padded(islands, rows, cols, NO_ISLAND)
+    mask = box == island
+    image = extended(padded(texture, rows, cols, 0.0), mask)
     h, w = mask.shape
+    canvas = Canvas.blank((h, w), params.canvas_colour)
+    apron = None
+    if across:
+        apron = island_apron(charts, islands, island, (rows.start, cols.start), box, float(margin))
+        image[apron.rows, apron.cols] = island_bilinear(texture, islands, apron.neighbour, apron.source)[0]
+        start = padded(maps, rows, cols, 0.0)
+        start[apron.rows, apron.cols] = island_bilinear(maps, islands, apron.neighbour, apron.source)[0]
+        start_canvas(canvas, start, mask | edge_mask(apron, mask.shape))
     own = dataclasses.replace(params, stroke_sizes=sizes, size_reference_megapixels=h * w / 1e6,
                               bilateral_sigma_spatial=smoothing / float(np.hypot(h, w)))
     analysis = analyze(image, own, cancel=stage.cancel)
-    canvas = Canvas.blank((h, w), params.canvas_colour)
-    strokes, per_layer = stroke_painter(own, "Objects")(canvas, image, analysis, own, stage, eligible=mask)
+    anchored = mask if apron is None else mask | edge_mask(apron, mask.shape, charts.leads[apron.edge] &
+                                                             (apron.feather >= 1.0))
+    strokes, per_layer = stroke_painter(own, "Objects")(canvas, image, analysis, own, stage, eligible=anchored)
     shift = np.array([cols.start, rows.start], np.float32)
     placed = [Stroke(s.layer, (s.anchor[0] + cols.start, s.anchor[1] + rows.start), s.size, s.path + shift,
                      s.colour) for s in strokes]
-    return IslandPainting(rows, cols, mask, canvas, analysis.orientation, placed, per_layer, tuple(analysis.sizes))
+    carry = None
+    orientation = analysis.orientation
+    if across:
+        now = canvas_maps(canvas)
+        weight = np.zeros((h, w))
+        changed = np.any(now[apron.rows, apron.cols] != start[apron.rows, apron.cols], axis=1)
+        weight[apron.rows, apron.cols] = changed * apron.feather * now[apron.rows, apron.cols, 5]
+        carry = carried(charts, islands, apron, (rows.start, cols.start), now, weight, float(margin))
+        inside = (slice(-rows.start if rows.start < 0 else 0, None), slice(-cols.start if cols.start < 0 else 0, None))
+        size = islands.shape[0]
+        rows, cols = slice(max(rows.start, 0), min(rows.stop, size)), slice(max(cols.start, 0), min(cols.stop, size))
+        inside = (slice(inside[0].start, inside[0].start + rows.stop - rows.start),
+                  slice(inside[1].start, inside[1].start + cols.stop - cols.start))
+        mask, orientation = mask[inside], orientation[inside]
+        canvas = Canvas(canvas.colour[inside], canvas.coverage[inside], canvas.height[inside],
+                        canvas.opacity[inside])
+    return IslandPainting(rows, cols, mask, canvas, orientation, placed, per_layer, tuple(analysis.sizes), carry)
+
+
+def padded(values: np.ndarray, rows: slice, cols: slice, fill) -> np.ndarray:
+    """A copy of ``values`` (N, N, ...) over the box ``rows`` x ``cols``, which may reach past the texture: ``fill``
+    there."""
+    size_y, size_x = values.shape[:2]
+    if rows.start >= 0 and cols.start >= 0 and rows.stop <= size_y and cols.stop <= size_x:
+        return values[rows, cols].copy()
+    out = np.full((rows.stop - rows.start, cols.stop - cols.start) + values.shape[2:], fill, values.dtype)
+    r0, c0 = max(rows.start, 0), max(cols.start, 0)
+    r1, c1 = min(rows.stop, size_y), min(cols.stop, size_x)
+    out[r0 - rows.start:r1 - rows.start, c0 - cols.start:c1 - cols.start] = values[r0:r1, c0:c1]
+    return out
+
+
+def edge_mask(apron: Apron, shape: Tuple[int, int], picked: Optional[np.ndarray] = None) -> np.ndarray:
+    """(h, w) bool: the apron's texels in a box of ``shape`` (those where ``picked`` (A,) bool holds, if given)."""
+    out = np.zeros(shape, bool)
+    out[apron.rows, apron.cols] = True if picked is None else picked
+    return out
+
+
+def canvas_maps(canvas: Canvas) -> np.ndarray:
+    """(h, w, 6) float32: the canvas's colour (3), height, opacity and coverage, stacked."""
+    return np.concatenate([canvas.colour, canvas.height[..., None], canvas.opacity[..., None],
+                           canvas.coverage[..., None]], axis=2)
+
+
+def start_canvas(canvas: Canvas, maps: np.ndarray, where: np.ndarray) -> None:
+    """Set ``canvas`` to ``maps`` (h, w, 6) (``canvas_maps``'s stacking) where ``where`` (h, w) bool holds."""
+    canvas.colour[where] = maps[where, :3]
+    canvas.height[where] = maps[where, 3]
+    canvas.opacity[where] = maps[where, 4]
+    canvas.coverage[where] = maps[where, 5]
 
 
 def check_layout(texture: np.ndarray, layout: SurfaceLayout) -> None:
@@ -182,9 +256,9 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
     spans = texel_mm(layout)
     size = texture.shape[0]
     smoothing_mm = params.bilateral_sigma_spatial * size * np.sqrt(2.0) * median_texel_mm(layout)
-    colour = np.empty((size, size, 3), np.float32)
-    colour[:] = np.asarray(params.canvas_colour, np.float32)
-    height, opacity, coverage, orientation = (np.zeros((size, size), np.float32) for _ in range(4))
+    maps = np.zeros((size, size, 6), np.float32)          # colour, height, opacity, coverage (``canvas_maps``)
+    maps[..., :3] = np.asarray(params.canvas_colour, np.float32)
+    orientation = np.zeros((size, size), np.float32)
     present = np.unique(layout.islands[layout.islands != NO_ISLAND]).tolist()
     painted: Dict[int, IslandPainting] = {}
     for position, island in enumerate(present):
@@ -193,12 +267,16 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
                 fraction, f"Island {position + 1}/{len(present)}: {message}"))
         part = paint_island(texture, layout.islands, island, island_sizes(stroke_mm, spans[island - 1]),
                             smoothing_mm / spans[island - 1], params,
-                            Stage(named, cancel, position / len(present), (position + 1) / len(present)))
-        for target, values in ((colour, part.canvas.colour), (height, part.canvas.height),
-                               (opacity, part.canvas.opacity), (coverage, part.canvas.coverage),
-                               (orientation, part.orientation)):
-            target[part.rows, part.cols][part.mask] = values[part.mask]
+                            Stage(named, cancel, position / len(present), (position + 1) / len(present)),
+                            layout.charts, maps)
+        maps[part.rows, part.cols][part.mask] = canvas_maps(part.canvas)[part.mask]
+        orientation[part.rows, part.cols][part.mask] = part.orientation[part.mask]
+        if part.carry is not None and len(part.carry.rows):
+            here = maps[part.carry.rows, part.carry.cols]
+            maps[part.carry.rows, part.carry.cols] = here + part.carry.weight[:, None] * (part.carry.values - here)
         painted[island] = part
+    colour, height, opacity, coverage = (np.ascontiguousarray(maps[..., :3]), maps[..., 3].copy(),
+                                         maps[..., 4].copy(), maps[..., 5].copy())
     reach = bleed_texels(size)
     colour, height, opacity, coverage, orientation = (bled(values, layout.islands, reach) for values in
                                                        (colour, height, opacity, coverage, orientation))
