@@ -23,6 +23,7 @@ from __future__ import annotations
 from typing import NamedTuple, Tuple
 
 import numpy as np
+from scipy import ndimage
 
 from .islands import NO_ISLAND
 from .seams import shared_edges
@@ -30,6 +31,10 @@ from .seams import shared_edges
 FEATHER_START = 0.5
 """Paint carried back from an apron keeps full weight up to this fraction of the apron's width from the seam,
 then fades linearly to none at its far side, so where the apron ends no line shows."""
+
+CARRY_REACH = 4.0
+"""The neighbours' texels looked at for paint carried back lie within this many apron widths of the seam (a bound
+for charts that shrink the neighbour's texels a lot, as at a sphere's poles)."""
 
 BAND_CHUNK = 1 << 22
 """(texel, edge) pairs measured at once while the texels near edges are found: bounds the memory."""
@@ -143,13 +148,13 @@ def seam_charts(uv: np.ndarray, position: np.ndarray, islands: np.ndarray, size:
     return SeamCharts(ends, islands[triangle[border]].astype(np.int32), neighbour, partner, chart, leads)
 
 
-def near_edges(ends: np.ndarray, reach: float, shape: Tuple[int, int]) -> tuple:
-    """The texels of an (H, W) grid within ``reach`` texels of the segments ``ends`` (S, 2, 2) (x, y), each with
+def near_edges(ends: np.ndarray, reach: np.ndarray, shape: Tuple[int, int]) -> tuple:
+    """The texels of an (H, W) grid within ``reach`` (S,) texels of the segments ``ends`` (S, 2, 2) (x, y), each with
     the segment nearest it: (rows (M,), cols (M,), segment (M,) int64, distance (M,) texels), in row-major order;
     ties go to the segment listed first."""
     h, w = shape
-    low = np.clip(np.floor(ends.min(axis=1) - reach), 0, [w - 1, h - 1]).astype(np.int64)
-    high = np.clip(np.ceil(ends.max(axis=1) + reach), 0, [w - 1, h - 1]).astype(np.int64)
+    low = np.clip(np.floor(ends.min(axis=1) - reach[:, None]), 0, [w - 1, h - 1]).astype(np.int64)
+    high = np.clip(np.ceil(ends.max(axis=1) + reach[:, None]), 0, [w - 1, h - 1]).astype(np.int64)
     width, height = np.maximum(high[:, 0] - low[:, 0] + 1, 0), np.maximum(high[:, 1] - low[:, 1] + 1, 0)
     area = width * height
     found = []
@@ -168,7 +173,7 @@ def near_edges(ends: np.ndarray, reach: float, shape: Tuple[int, int]) -> tuple:
         px, py = x - a[:, 0], y - a[:, 1]
         t = np.clip((px * d[:, 0] + py * d[:, 1]) / length2, 0.0, 1.0)
         distance = np.hypot(px - t * d[:, 0], py - t * d[:, 1])
-        close = distance <= reach
+        close = distance <= reach[segment]
         found.append((y[close] * w + x[close], segment[close], distance[close]))
         start = picked[-1] + 1
     flat, segment, distance = (np.concatenate(parts) for parts in zip(*found, strict=True))
@@ -176,6 +181,27 @@ def near_edges(ends: np.ndarray, reach: float, shape: Tuple[int, int]) -> tuple:
     flat, segment, distance = flat[order], segment[order], distance[order]
     first = np.flatnonzero(np.concatenate([[True], flat[1:] != flat[:-1]]))
     return flat[first] // w, flat[first] % w, segment[first], distance[first]
+
+
+def nearest_edge(ends: np.ndarray, shape: Tuple[int, int]) -> tuple:
+    """((H, W) int64, (H, W) float64): for each texel of an (H, W) grid, the segment of ``ends`` (S, 2, 2) (x, y)
+    nearest it and its distance in texels, to within half a texel: the segments are drawn as texels (points every
+    half texel along each, later segments over earlier) and the exact Euclidean distance transform finds the nearest
+    drawn texel. -1 and infinity where no segment is drawn inside the grid."""
+    h, w = shape
+    lengths = np.hypot(*(ends[:, 1] - ends[:, 0]).T)
+    steps = np.maximum(1, np.ceil(2.0 * lengths).astype(np.int64)) + 1
+    segment = np.repeat(np.arange(len(ends)), steps)
+    t = (np.arange(steps.sum()) - np.repeat(np.cumsum(steps) - steps, steps)) / np.repeat(steps - 1, steps)
+    points = ends[segment, 0] + t[:, None] * (ends[segment, 1] - ends[segment, 0])
+    x, y = np.rint(points[:, 0]).astype(np.int64), np.rint(points[:, 1]).astype(np.int64)
+    inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+    drawn = np.full(shape, -1, np.int64)
+    drawn[y[inside], x[inside]] = segment[inside]
+    if not inside.any():
+        return drawn, np.full(shape, np.inf)
+    distance, (rows, cols) = ndimage.distance_transform_edt(drawn < 0, return_indices=True)
+    return drawn[rows, cols], distance
 
 
 def island_bilinear(values: np.ndarray, islands: np.ndarray, island: np.ndarray, xy: np.ndarray) -> tuple:
@@ -222,8 +248,9 @@ def island_apron(charts: SeamCharts, islands: np.ndarray, island: int, origin: T
     if not (charts.neighbour[own] != NO_ISLAND).any():
         return Apron(*(np.zeros(0, np.int64),) * 3, np.zeros(0, np.int32), np.zeros((0, 2)), np.zeros(0))
     shift = np.array([origin[1], origin[0]], float)
-    r, c, nearest, distance = near_edges(charts.ends[own] - shift, reach, box.shape)
-    edge = own[nearest]
+    nearest, distance = nearest_edge(charts.ends[own] - shift, box.shape)
+    r, c = np.nonzero((distance <= reach) & (nearest >= 0))
+    edge, distance = own[nearest[r, c]], distance[r, c]
     keep = (charts.neighbour[edge] != NO_ISLAND) & (box[r, c] != island)
     r, c, edge, distance = r[keep], c[keep], edge[keep], distance[keep]
     source = apply(inverted(charts.chart[edge]), np.stack([c, r], axis=1) + shift)
@@ -236,13 +263,6 @@ def island_apron(charts: SeamCharts, islands: np.ndarray, island: int, origin: T
 def has_seams(charts: SeamCharts, island: int) -> bool:
     """Whether any border edge of island ``island`` is a seam."""
     return bool(np.any((charts.island == island) & (charts.neighbour != NO_ISLAND)))
-
-
-def edge_map(apron: Apron, shape: Tuple[int, int]) -> np.ndarray:
-    """(h, w) int64: the seam each apron texel of a box of ``shape`` lies beyond, -1 elsewhere."""
-    out = np.full(shape, -1, np.int64)
-    out[apron.rows, apron.cols] = apron.edge
-    return out
 
 
 class Carry(NamedTuple):
@@ -258,23 +278,26 @@ def carried(charts: SeamCharts, islands: np.ndarray, apron: Apron, origin: Tuple
             weight: np.ndarray, reach: float) -> Carry:
     """The paint an island laid in its ``apron`` (its box's texel (0, 0) the texture's (row, col) ``origin``), carried to the neighbours' own texels
     through the leading seams' chart maps: each texel of a neighbour within reach of a seam's far side, mapped into
-    the island's frame, reads the box's ``maps`` (h, w, C) bilinearly from that seam's apron texels alone, each tap
-    weighted by ``weight`` (h, w) [0, 1] (where the island's strokes laid paint, feathered), and takes it with
-    the weight read alike. ``reach``:
+    the island's frame, reads the box's ``maps`` (h, w, C) bilinearly from the apron texels that read that neighbour, and the
+    weight it takes them with, ``weight`` (h, w) [0, 1] read alike (times the share of the four taps that are
+    such apron texels). ``reach``:
     the apron's width in the island's texels."""
     edges = np.unique(apron.edge[charts.leads[apron.edge]])
     none = Carry(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, maps.shape[2])), np.zeros(0))
     if not len(edges):
         return none
-    scale = np.sqrt(np.abs(np.linalg.det(charts.chart[edges, :, :2])))             # island texels per neighbour's
+    shrink = np.linalg.svd(charts.chart[edges, :, :2], compute_uv=False)[:, -1]     # island texels per neighbour's
     far = charts.partner[edges]
-    r, c, nearest, _ = near_edges(charts.ends[far], float(np.max(reach / scale)) + 1.0, islands.shape)
+    r, c, nearest, _ = near_edges(charts.ends[far], np.minimum(reach / shrink, CARRY_REACH * reach) + 1.0,
+                                  islands.shape)
     edge = edges[nearest]
     keep = islands[r, c] == charts.neighbour[edge]
     r, c, edge = r[keep], c[keep], edge[keep]
     point = apply(charts.chart[edge], np.stack([c, r], axis=1).astype(float)) - [origin[1], origin[0]]
-    beyond = edge_map(apron, maps.shape[:2])
-    weighted, total = island_bilinear(maps * weight[..., None], beyond, edge, point)
-    share, _ = island_bilinear(weight[..., None], beyond, edge, point)
-    keep = share[:, 0] * total > 0
-    return Carry(r[keep], c[keep], weighted[keep] / share[keep], share[keep, 0] * total[keep])
+    beyond = np.zeros(maps.shape[:2], np.int32)
+    beyond[apron.rows, apron.cols] = apron.neighbour
+    values, total = island_bilinear(maps, beyond, charts.neighbour[edge], point)
+    share, _ = island_bilinear(weight[..., None], beyond, charts.neighbour[edge], point)
+    amount = share[:, 0] * total
+    keep = amount > 0
+    return Carry(r[keep], c[keep], values[keep], amount[keep])

@@ -39,6 +39,10 @@ from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, te
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
 
+APRON_WIDTH = 2
+"""An island with seams has a box, and an apron, this many times as wide as the margin of its largest stroke and
+the bleed: strokes are anchored in the apron's inner half, its outer half feathers what is carried back."""
+
 
 class SurfaceLayout(NamedTuple):
     """Where a texture lies on a mesh: its island map and the islands' texel densities."""
@@ -149,6 +153,7 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
     which the canvas starts from on the island's texels too; the paint its strokes lay there is the carry."""
     margin = max(sizes) + int(np.ceil(bleed_texels(islands.shape[0])))
     across = charts is not None and has_seams(charts, island)
+    margin *= APRON_WIDTH if across else 1
     rows, cols = island_box(islands == island, margin, clipped=not across)
     box = padded(islands, rows, cols, NO_ISLAND)
     mask = box == island
@@ -175,10 +180,11 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
     orientation = analysis.orientation
     if across:
         now = canvas_maps(canvas)
-        weight = np.zeros((h, w))
-        changed = np.any(now[apron.rows, apron.cols] != start[apron.rows, apron.cols], axis=1)
-        weight[apron.rows, apron.cols] = changed * apron.feather * now[apron.rows, apron.cols, 5]
-        carry = carried(charts, islands, apron, (rows.start, cols.start), now, weight, float(margin))
+        feather = np.zeros((h, w))
+        feather[apron.rows, apron.cols] = apron.feather
+        carry = carried(charts, islands, apron, (rows.start, cols.start),
+                        np.concatenate([now, start, transmitted(start, now)[..., None]], axis=2), feather,
+                        float(margin))
         inside = (slice(-rows.start if rows.start < 0 else 0, None), slice(-cols.start if cols.start < 0 else 0, None))
         size = islands.shape[0]
         rows, cols = slice(max(rows.start, 0), min(rows.stop, size)), slice(max(cols.start, 0), min(cols.stop, size))
@@ -208,6 +214,23 @@ def edge_mask(apron: Apron, shape: Tuple[int, int], picked: Optional[np.ndarray]
     out = np.zeros(shape, bool)
     out[apron.rows, apron.cols] = True if picked is None else picked
     return out
+
+
+def transmitted(start: np.ndarray, now: np.ndarray) -> np.ndarray:
+    """(h, w) [0, 1]: how much of what a canvas held at ``start`` (h, w, 6) (``canvas_maps``) shows through the
+    strokes laid since, which left it at ``now``: their transmittance, (1 - coverage now) / (1 - coverage then),
+    0 where the canvas was covered already (what it held is then taken to be what lies beneath)."""
+    before, after = 1.0 - start[..., 5], 1.0 - now[..., 5]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(before > 1e-3, np.clip(after / before, 0.0, 1.0), 0.0)
+
+
+def laid_over(here: np.ndarray, carry: Carry) -> np.ndarray:
+    """(M, 6): texels holding ``here`` (M, 6) (``canvas_maps``) with the strokes of ``carry`` laid over them: its
+    values are the canvas now, then, and the transmittance (``transmitted``), so the strokes composite over what
+    the texels hold as they did over what the apron held, taken with the carry's weight."""
+    now, start, through = carry.values[:, :6], carry.values[:, 6:12], carry.values[:, 12:]
+    return here + carry.weight[:, None] * (now + (here - start) * through - here)
 
 
 def canvas_maps(canvas: Canvas) -> np.ndarray:
@@ -272,8 +295,7 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
         maps[part.rows, part.cols][part.mask] = canvas_maps(part.canvas)[part.mask]
         orientation[part.rows, part.cols][part.mask] = part.orientation[part.mask]
         if part.carry is not None and len(part.carry.rows):
-            here = maps[part.carry.rows, part.carry.cols]
-            maps[part.carry.rows, part.carry.cols] = here + part.carry.weight[:, None] * (part.carry.values - here)
+            maps[part.carry.rows, part.carry.cols] = laid_over(maps[part.carry.rows, part.carry.cols], part.carry)
         painted[island] = part
     colour, height, opacity, coverage = (np.ascontiguousarray(maps[..., :3]), maps[..., 3].copy(),
                                          maps[..., 4].copy(), maps[..., 5].copy())
