@@ -28,9 +28,13 @@ from scipy import ndimage
 from .islands import NO_ISLAND
 from .seams import shared_edges
 
-FEATHER_START = 0.5
+FEATHER_START = 2.0 / 3.0
 """Paint carried back from an apron keeps full weight up to this fraction of the apron's width from the seam,
 then fades linearly to none at its far side, so where the apron ends no line shows."""
+
+MAX_STRETCH = 2.0
+"""An apron reaches past a seam as many of the neighbour's texels as of the island's: wider, up to this many times,
+where the neighbour's texels are coarser (``stretch``), so that what is carried covers as many of its texels."""
 
 CARRY_REACH = 4.0
 """The neighbours' texels looked at for paint carried back lie within this many apron widths of the seam (a bound
@@ -100,8 +104,9 @@ def seam_charts(uv: np.ndarray, position: np.ndarray, islands: np.ndarray, size:
     """The border edges of the islands ``islands`` (T,) of the triangles ``uv`` (T, 3, 2) and ``position`` (T, 3, 3)
     m in a ``size``-texel texture, and the chart map across each seam (module docstring). A border edge is a UV
     edge of one triangle alone; it is a seam when another triangle shares its ends in 3-D. Of a seam's two sides,
-    the one whose triangle comes first leads when both lie in one island (its two sides are painted at once);
-    between two islands both lead, the island painted later over the earlier."""
+    one leads: its island's strokes are anchored beyond it and carried over the other side. Islands are painted
+    in their order, so between two islands the later leads and lays its strokes over the earlier's paint; within
+    one island (both sides painted at once) the side whose triangle comes first leads."""
     count = len(uv)
     _, point = np.unique(uv.reshape(-1, 2), axis=0, return_inverse=True)
     point = point.reshape(count, 3)
@@ -142,7 +147,7 @@ def seam_charts(uv: np.ndarray, position: np.ndarray, islands: np.ndarray, size:
         neighbour[mine] = islands[there]
         partner[mine] = yours
         chart[mine] = affine(source, target)
-        leads[mine] = (islands[here] != islands[there]) | (here < there)
+        leads[mine] = (islands[here] > islands[there]) | ((islands[here] == islands[there]) & (here < there))
     fine = np.isfinite(chart).all(axis=(1, 2))
     neighbour[~fine], partner[~fine], leads[~fine] = NO_ISLAND, -1, False
     return SeamCharts(ends, islands[triangle[border]].astype(np.int32), neighbour, partner, chart, leads)
@@ -242,17 +247,20 @@ def island_apron(charts: SeamCharts, islands: np.ndarray, island: int, origin: T
                  box: np.ndarray, reach: float) -> Apron:
     """Island ``island``'s apron in its box, whose texel (0, 0) is the texture's texel (row, col) ``origin`` and
     ``box`` (h, w) its island map (NO_ISLAND beyond the texture), of the (N, N) ``islands`` map: the box's texels
-    outside the island within ``reach`` texels of its border edges whose nearest border edge is a seam, which the
-    seam's chart map sends onto a texel of the neighbour island (module docstring)."""
+    outside the island whose nearest border edge is a seam, within ``reach`` texels of it times the seam's
+    ``stretch``, which the seam's chart map sends onto a texel of the neighbour island (module docstring)."""
     own = np.flatnonzero(charts.island == island)
     if not (charts.neighbour[own] != NO_ISLAND).any():
         return Apron(*(np.zeros(0, np.int64),) * 3, np.zeros(0, np.int32), np.zeros((0, 2)), np.zeros(0))
     shift = np.array([origin[1], origin[0]], float)
     nearest, distance = nearest_edge(charts.ends[own] - shift, box.shape)
-    r, c = np.nonzero((distance <= reach) & (nearest >= 0))
+    r, c = np.nonzero((distance <= reach * MAX_STRETCH) & (nearest >= 0))
     edge, distance = own[nearest[r, c]], distance[r, c]
     keep = (charts.neighbour[edge] != NO_ISLAND) & (box[r, c] != island)
     r, c, edge, distance = r[keep], c[keep], edge[keep], distance[keep]
+    reach = reach * stretch(charts, edge)
+    keep = distance <= reach
+    r, c, edge, distance, reach = r[keep], c[keep], edge[keep], distance[keep], reach[keep]
     source = apply(inverted(charts.chart[edge]), np.stack([c, r], axis=1) + shift)
     _, weight = island_bilinear(np.zeros(islands.shape + (1,)), islands, charts.neighbour[edge], source)
     keep = weight > 0
@@ -260,9 +268,23 @@ def island_apron(charts: SeamCharts, islands: np.ndarray, island: int, origin: T
     return Apron(r[keep], c[keep], edge[keep], charts.neighbour[edge][keep], source[keep], feather[keep])
 
 
-def has_seams(charts: SeamCharts, island: int) -> bool:
-    """Whether any border edge of island ``island`` is a seam."""
-    return bool(np.any((charts.island == island) & (charts.neighbour != NO_ISLAND)))
+def stretch(charts: SeamCharts, edge: np.ndarray) -> np.ndarray:
+    """(M,) in [1, MAX_STRETCH]: how many of the island's texels a neighbour's texel spans across the seams ``edge``
+    (M,) at most (the chart map's largest singular value), at least 1."""
+    if not len(edge):
+        return np.ones(0)
+    return np.clip(np.linalg.svd(charts.chart[edge, :, :2], compute_uv=False)[:, 0], 1.0, MAX_STRETCH)
+
+
+def widest_stretch(charts: SeamCharts, island: int) -> float:
+    """The largest ``stretch`` of island ``island``'s seams (1 without any)."""
+    seams = np.flatnonzero((charts.island == island) & (charts.neighbour != NO_ISLAND))
+    return float(np.max(stretch(charts, seams), initial=1.0))
+
+
+def leads_any(charts: SeamCharts, island: int) -> bool:
+    """Whether island ``island`` leads across any of its seams (``seam_charts``): only then has it an apron."""
+    return bool(np.any((charts.island == island) & charts.leads))
 
 
 class Carry(NamedTuple):
@@ -276,12 +298,12 @@ class Carry(NamedTuple):
 
 def carried(charts: SeamCharts, islands: np.ndarray, apron: Apron, origin: Tuple[int, int], maps: np.ndarray,
             weight: np.ndarray, reach: float) -> Carry:
-    """The paint an island laid in its ``apron`` (its box's texel (0, 0) the texture's (row, col) ``origin``), carried to the neighbours' own texels
-    through the leading seams' chart maps: each texel of a neighbour within reach of a seam's far side, mapped into
-    the island's frame, reads the box's ``maps`` (h, w, C) bilinearly from the apron texels that read that neighbour, and the
-    weight it takes them with, ``weight`` (h, w) [0, 1] read alike (times the share of the four taps that are
-    such apron texels). ``reach``:
-    the apron's width in the island's texels."""
+    """The paint an island laid in its ``apron`` (its box's texel (0, 0) the texture's (row, col) ``origin``),
+    carried to the neighbours' own texels through the leading seams' chart maps: each texel of a neighbour within
+    reach of a seam's far side, mapped into the island's frame, reads the box's ``maps`` (h, w, C) bilinearly from
+    the apron texels that read that neighbour, and the weight it takes them with, ``weight`` (h, w) [0, 1] read
+    alike (times the share of the four taps that are such apron texels). ``reach``: the apron's widest reach
+    (``island_apron``) in the island's texels."""
     edges = np.unique(apron.edge[charts.leads[apron.edge]])
     none = Carry(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, maps.shape[2])), np.zeros(0))
     if not len(edges):

@@ -34,12 +34,22 @@ from ..resample import resize_area
 from ..results import Painting
 from ..strokes.canvas import Canvas
 from ..strokes.stroke import Stroke
-from .apron import Apron, Carry, SeamCharts, carried, has_seams, island_apron, island_bilinear, seam_charts
+from .apron import (
+    Apron,
+    Carry,
+    SeamCharts,
+    carried,
+    island_apron,
+    island_bilinear,
+    leads_any,
+    seam_charts,
+    widest_stretch,
+)
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
 
-APRON_WIDTH = 2
+APRON_WIDTH = 1.5
 """An island with seams has a box, and an apron, this many times as wide as the margin of its largest stroke and
 the bleed: strokes are anchored in the apron's inner half, its outer half feathers what is carried back."""
 
@@ -152,8 +162,9 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
     seams, the picture and the texture painted so far (``maps`` (N, N, 6): colour, height, opacity, coverage),
     which the canvas starts from on the island's texels too; the paint its strokes lay there is the carry."""
     margin = max(sizes) + int(np.ceil(bleed_texels(islands.shape[0])))
-    across = charts is not None and has_seams(charts, island)
-    margin *= APRON_WIDTH if across else 1
+    across = charts is not None and leads_any(charts, island)
+    reach = margin * APRON_WIDTH
+    margin = int(np.ceil(reach * widest_stretch(charts, island))) if across else margin
     rows, cols = island_box(islands == island, margin, clipped=not across)
     box = padded(islands, rows, cols, NO_ISLAND)
     mask = box == island
@@ -162,7 +173,7 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
     canvas = Canvas.blank((h, w), params.canvas_colour)
     apron = None
     if across:
-        apron = island_apron(charts, islands, island, (rows.start, cols.start), box, float(margin))
+        apron = island_apron(charts, islands, island, (rows.start, cols.start), box, reach)
         image[apron.rows, apron.cols] = island_bilinear(texture, islands, apron.neighbour, apron.source)[0]
         start = padded(maps, rows, cols, 0.0)
         start[apron.rows, apron.cols] = island_bilinear(maps, islands, apron.neighbour, apron.source)[0]
