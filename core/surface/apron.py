@@ -12,7 +12,15 @@ island's apron is the texels of its box beyond its seams: each takes the
 seam nearest to it among the island's border edges, and reads the surface
 through that seam's chart map in the neighbour island's own texels. A texel
 whose nearest border edge is no seam (a border of the surface), or which the
-map sends outside the neighbour island, is no apron texel.
+map sends outside the neighbour island, is no apron texel. The chart map of
+the one triangle along the seam goes on beyond it in the apron, which is
+exact on a developable strip and near it elsewhere.
+
+Of a seam's two sides one leads (``seam_charts``): the leading island's
+strokes are anchored in the inner part of its apron too, and the paint laid
+in its apron is carried back (``carried``) to the neighbour's own texels
+through the same chart map, feathered over the apron's outer part, so both
+sides of the seam show the same strokes.
 
 Texel coordinates throughout: texel (r, c) of an N x N texture has its
 centre at x = c, y = r (u = (x + 0.5) / N, v = 1 - (y + 0.5) / N).
@@ -28,7 +36,7 @@ from scipy import ndimage
 from .islands import NO_ISLAND
 from .seams import shared_edges
 
-FEATHER_START = 2.0 / 3.0
+FEATHER_START = 0.75
 """Paint carried back from an apron keeps full weight up to this fraction of the apron's width from the seam,
 then fades linearly to none at its far side, so where the apron ends no line shows."""
 

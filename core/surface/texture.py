@@ -1,18 +1,24 @@
-"""A mesh's texture painted in its UV space, island by island, with strokes of one size in the world (ALGORITHM §10).
+"""A mesh's texture painted in its UV space, island by island, with strokes of one size in the world and across the
+UV seams (ALGORITHM §10).
 
 Each island is painted as a canvas of its own. Its box in the texture,
 widened by its largest stroke and the bleed, is cut out, and every texel of
 the box outside the island takes the colour of the nearest island texel, so
 the importance, the partition and the orientation see no border. Strokes
 are anchored only on the island's texels, as a shot's births are anchored
-only where they may happen. Only the island's texels are kept from its
-canvas, so no stroke's paint reaches another island. The stroke sizes are
-given in millimetres on the surface and turned into texels by the island's
-texel density. Once every island is painted, the maps bleed ``bleed_texels``
-past the islands' borders. Beyond the bleed the opacity and height are 0 and
-the colour is the canvas colour. The reference's bilateral filter spans as
-many millimetres on every island as it spans texels on the texture's median
-texel.
+only where they may happen, and only the island's texels are kept from its
+canvas. Where the layout has seam charts (``apron``), an island that leads
+across a seam paints across it: its box shows, beyond the seam, the
+neighbour's picture and paint unfolded (its apron), its strokes are anchored
+on the apron's inner part too, and what they lay there is composited over
+the neighbour's own texels, feathered at the apron's far side, so the
+strokes run on over the surface and both sides of the seam agree. The
+stroke sizes are given in millimetres on the surface and turned into texels
+by the island's texel density. Once every island is painted, the maps bleed
+``bleed_texels`` past the islands' borders. Beyond the bleed the opacity and
+height are 0 and the colour is the canvas colour. The reference's bilateral
+filter spans as many millimetres on every island as it spans texels on the
+texture's median texel.
 """
 
 from __future__ import annotations
@@ -48,10 +54,6 @@ from .apron import (
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
-
-APRON_WIDTH = 1.5
-"""An island with seams has a box, and an apron, this many times as wide as the margin of its largest stroke and
-the bleed: strokes are anchored in the apron's inner half, its outer half feathers what is carried back."""
 
 
 class SurfaceLayout(NamedTuple):
@@ -163,17 +165,24 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
     which the canvas starts from on the island's texels too; the paint its strokes lay there is the carry."""
     margin = max(sizes) + int(np.ceil(bleed_texels(islands.shape[0])))
     across = charts is not None and leads_any(charts, island)
-    reach = margin * APRON_WIDTH
-    margin = int(np.ceil(reach * widest_stretch(charts, island))) if across else margin
-    rows, cols = island_box(islands == island, margin, clipped=not across)
+    rows, cols = island_box(islands == island, margin)
+    apron = None
+    if across:
+        widest = int(np.ceil(margin * widest_stretch(charts, island)))
+        wide_rows, wide_cols = island_box(islands == island, widest, clipped=False)
+        wide = island_apron(charts, islands, island, (wide_rows.start, wide_cols.start),
+                            padded(islands, wide_rows, wide_cols, NO_ISLAND), float(margin))
+        near = (np.abs(wide.rows - (wide_rows.stop - wide_rows.start - 1) / 2) <= (wide_rows.stop - wide_rows.start - 1)
+                / 2 - (widest - margin)) & (np.abs(wide.cols - (wide_cols.stop - wide_cols.start - 1) / 2)
+                                            <= (wide_cols.stop - wide_cols.start - 1) / 2 - (widest - margin))
+        rows, cols, apron = fitted(rows, cols, wide, (wide_rows.start, wide_cols.start),
+                                   charts.leads[wide.edge] | near)
     box = padded(islands, rows, cols, NO_ISLAND)
     mask = box == island
     image = extended(padded(texture, rows, cols, 0.0), mask)
     h, w = mask.shape
     canvas = Canvas.blank((h, w), params.canvas_colour)
-    apron = None
     if across:
-        apron = island_apron(charts, islands, island, (rows.start, cols.start), box, reach)
         image[apron.rows, apron.cols] = island_bilinear(texture, islands, apron.neighbour, apron.source)[0]
         start = padded(maps, rows, cols, 0.0)
         start[apron.rows, apron.cols] = island_bilinear(maps, islands, apron.neighbour, apron.source)[0]
@@ -195,7 +204,7 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
         feather[apron.rows, apron.cols] = apron.feather
         carry = carried(charts, islands, apron, (rows.start, cols.start),
                         np.concatenate([now, start, transmitted(start, now)[..., None]], axis=2), feather,
-                        float(margin))
+                        float(widest))
         inside = (slice(-rows.start if rows.start < 0 else 0, None), slice(-cols.start if cols.start < 0 else 0, None))
         size = islands.shape[0]
         rows, cols = slice(max(rows.start, 0), min(rows.stop, size)), slice(max(cols.start, 0), min(cols.stop, size))
@@ -205,6 +214,19 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
         canvas = Canvas(canvas.colour[inside], canvas.coverage[inside], canvas.height[inside],
                         canvas.opacity[inside])
     return IslandPainting(rows, cols, mask, canvas, orientation, placed, per_layer, tuple(analysis.sizes), carry)
+
+
+def fitted(rows: slice, cols: slice, apron: Apron, origin: Tuple[int, int], leading: np.ndarray) -> tuple:
+    """(rows, cols, apron): the box ``rows`` x ``cols`` (within the texture) widened to hold the ``leading`` (A,)
+    bool texels of ``apron`` (those the box must hold: the leading seams' and those within the island's margin), found in a box whose texel (0, 0) is the texture's (row, col) ``origin``, and the
+    apron's texels inside the new box, in its coordinates."""
+    r, c = apron.rows + origin[0], apron.cols + origin[1]
+    if leading.any():
+        rows = slice(min(rows.start, int(r[leading].min())), max(rows.stop, int(r[leading].max()) + 1))
+        cols = slice(min(cols.start, int(c[leading].min())), max(cols.stop, int(c[leading].max()) + 1))
+    inside = (r >= rows.start) & (r < rows.stop) & (c >= cols.start) & (c < cols.stop)
+    return rows, cols, Apron(r[inside] - rows.start, c[inside] - cols.start, apron.edge[inside],
+                             apron.neighbour[inside], apron.source[inside], apron.feather[inside])
 
 
 def padded(values: np.ndarray, rows: slice, cols: slice, fill) -> np.ndarray:
