@@ -1,18 +1,24 @@
-"""A mesh's texture painted in its UV space, island by island, with strokes of one size in the world (ALGORITHM §10).
+"""A mesh's texture painted in its UV space, island by island, with strokes of one size in the world and across the
+UV seams (ALGORITHM §10).
 
 Each island is painted as a canvas of its own. Its box in the texture,
 widened by its largest stroke and the bleed, is cut out, and every texel of
 the box outside the island takes the colour of the nearest island texel, so
 the importance, the partition and the orientation see no border. Strokes
 are anchored only on the island's texels, as a shot's births are anchored
-only where they may happen. Only the island's texels are kept from its
-canvas, so no stroke's paint reaches another island. The stroke sizes are
-given in millimetres on the surface and turned into texels by the island's
-texel density. Once every island is painted, the maps bleed ``bleed_texels``
-past the islands' borders. Beyond the bleed the opacity and height are 0 and
-the colour is the canvas colour. The reference's bilateral filter spans as
-many millimetres on every island as it spans texels on the texture's median
-texel.
+only where they may happen, and only the island's texels are kept from its
+canvas. Where the layout has seam charts (``apron``), an island that leads
+across a seam paints across it: its box shows, beyond the seam, the
+neighbour's picture and paint unfolded (its apron), its strokes are anchored
+on the apron's inner part too, and what they lay there is composited over
+the neighbour's own texels, feathered at the apron's far side, so the
+strokes run on over the surface and both sides of the seam agree. The
+stroke sizes are given in millimetres on the surface and turned into texels
+by the island's texel density. Once every island is painted, the maps bleed
+``bleed_texels`` past the islands' borders. Beyond the bleed the opacity and
+height are 0 and the colour is the canvas colour. The reference's bilateral
+filter spans as many millimetres on every island as it spans texels on the
+texture's median texel.
 """
 
 from __future__ import annotations
@@ -34,6 +40,17 @@ from ..resample import resize_area
 from ..results import Painting
 from ..strokes.canvas import Canvas
 from ..strokes.stroke import Stroke
+from .apron import (
+    Apron,
+    Carry,
+    SeamCharts,
+    carried,
+    island_apron,
+    island_bilinear,
+    leads_any,
+    seam_charts,
+    widest_stretch,
+)
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
@@ -45,15 +62,19 @@ class SurfaceLayout(NamedTuple):
     islands: np.ndarray         # (N, N) int32, 0 (no surface) or the island 1 .. K of each texel
     density: TexelDensity       # the islands' metres per UV unit (``islands.texel_density``)
     edges: Optional[EdgeSamples] = None     # where the texture's steps across seams and inner edges are read
+    charts: Optional[SeamCharts] = None     # the chart maps across the seams (``apron.seam_charts``); None: apart
 
 
-def surface_layout(mesh: SurfaceMesh, size: int) -> SurfaceLayout:
-    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, and the
-    samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them."""
+def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True) -> SurfaceLayout:
+    """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, the
+    samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them, and, with
+    ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart)."""
     islands = uv_islands(mesh.uv)
     density = texel_density(mesh.uv, mesh.position, islands)
     offset_m = OFFSET_TEXELS * float(np.nanmax(density.island, initial=0.0)) / size
-    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m))
+    charts = seam_charts(mesh.uv, mesh.position, islands, size) if across_seams else None
+    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m),
+                         charts)
 
 
 def square_texture(image: np.ndarray, size: int) -> np.ndarray:
@@ -109,13 +130,16 @@ class IslandPainting(NamedTuple):
     strokes: List[Stroke]       # in the texture's texel coordinates
     per_layer: List[int]
     sizes: Tuple[int, ...]      # its stroke widths (texels)
+    carry: Optional[Carry] = None   # the paint it laid beyond its seams, for the neighbours' texels
 
 
-def island_box(mask: np.ndarray, margin: int) -> Tuple[slice, slice]:
+def island_box(mask: np.ndarray, margin: int, clipped: bool = True) -> Tuple[slice, slice]:
     """The rows and columns of the box around ``mask`` (H, W) bool's True texels, widened by ``margin`` texels
-    (within the texture)."""
+    (within the texture when ``clipped``, else reaching past it as far as the margin does)."""
     rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
     h, w = mask.shape
+    if not clipped:
+        return slice(rows[0] - margin, rows[-1] + 1 + margin), slice(cols[0] - margin, cols[-1] + 1 + margin)
     return (slice(max(0, rows[0] - margin), min(h, rows[-1] + 1 + margin)),
             slice(max(0, cols[0] - margin), min(w, cols[-1] + 1 + margin)))
 
@@ -130,24 +154,130 @@ def extended(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 
 def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: Tuple[int, ...],
-                 smoothing: float, params: Params, stage: Stage) -> IslandPainting:
+                 smoothing: float, params: Params, stage: Stage, charts: Optional[SeamCharts] = None,
+                 maps: Optional[np.ndarray] = None) -> IslandPainting:
     """Island ``island`` of the (N, N) ``islands`` map painted from (N, N, 3) sRGB [0, 1] ``texture`` with
     strokes of ``sizes`` texels and the reference's bilateral filter ``smoothing`` texels wide (module
     docstring): a still's strokes anchored on the island's texels alone, by the method's stroke painter
-    (``methods.registry.stroke_painter``; ParameterError in one sentence for a method that paints stills only)."""
-    rows, cols = island_box(islands == island, max(sizes) + int(np.ceil(bleed_texels(islands.shape[0]))))
-    mask = islands[rows, cols] == island
-    image = extended(texture[rows, cols], mask)
+    (``methods.registry.stroke_painter``; ParameterError in one sentence for a method that paints stills only).
+    With the layout's seam ``charts``, the box's apron (``apron.island_apron``) shows the surface beyond the
+    seams, the picture and the texture painted so far (``maps`` (N, N, 6): colour, height, opacity, coverage),
+    which the canvas starts from on the island's texels too; the paint its strokes lay there is the carry."""
+    margin = max(sizes) + int(np.ceil(bleed_texels(islands.shape[0])))
+    across = charts is not None and leads_any(charts, island)
+    rows, cols = island_box(islands == island, margin)
+    apron = None
+    if across:
+        widest = int(np.ceil(margin * widest_stretch(charts, island)))
+        wide_rows, wide_cols = island_box(islands == island, widest, clipped=False)
+        wide = island_apron(charts, islands, island, (wide_rows.start, wide_cols.start),
+                            padded(islands, wide_rows, wide_cols, NO_ISLAND), float(margin))
+        near = (np.abs(wide.rows - (wide_rows.stop - wide_rows.start - 1) / 2) <= (wide_rows.stop - wide_rows.start - 1)
+                / 2 - (widest - margin)) & (np.abs(wide.cols - (wide_cols.stop - wide_cols.start - 1) / 2)
+                                            <= (wide_cols.stop - wide_cols.start - 1) / 2 - (widest - margin))
+        rows, cols, apron = fitted(rows, cols, wide, (wide_rows.start, wide_cols.start),
+                                   charts.leads[wide.edge] | near)
+    box = padded(islands, rows, cols, NO_ISLAND)
+    mask = box == island
+    image = extended(padded(texture, rows, cols, 0.0), mask)
     h, w = mask.shape
+    canvas = Canvas.blank((h, w), params.canvas_colour)
+    if across:
+        image[apron.rows, apron.cols] = island_bilinear(texture, islands, apron.neighbour, apron.source)[0]
+        start = padded(maps, rows, cols, 0.0)
+        start[apron.rows, apron.cols] = island_bilinear(maps, islands, apron.neighbour, apron.source)[0]
+        start_canvas(canvas, start, mask | edge_mask(apron, mask.shape))
     own = dataclasses.replace(params, stroke_sizes=sizes, size_reference_megapixels=h * w / 1e6,
                               bilateral_sigma_spatial=smoothing / float(np.hypot(h, w)))
     analysis = analyze(image, own, cancel=stage.cancel)
-    canvas = Canvas.blank((h, w), params.canvas_colour)
-    strokes, per_layer = stroke_painter(own, "Objects")(canvas, image, analysis, own, stage, eligible=mask)
+    anchored = mask if apron is None else mask | edge_mask(apron, mask.shape, charts.leads[apron.edge] &
+                                                             (apron.feather >= 1.0))
+    strokes, per_layer = stroke_painter(own, "Objects")(canvas, image, analysis, own, stage, eligible=anchored)
     shift = np.array([cols.start, rows.start], np.float32)
     placed = [Stroke(s.layer, (s.anchor[0] + cols.start, s.anchor[1] + rows.start), s.size, s.path + shift,
                      s.colour) for s in strokes]
-    return IslandPainting(rows, cols, mask, canvas, analysis.orientation, placed, per_layer, tuple(analysis.sizes))
+    carry = None
+    orientation = analysis.orientation
+    if across:
+        now = canvas_maps(canvas)
+        feather = np.zeros((h, w))
+        feather[apron.rows, apron.cols] = apron.feather
+        carry = carried(charts, islands, apron, (rows.start, cols.start),
+                        np.concatenate([now, start, transmitted(start, now)[..., None]], axis=2), feather,
+                        float(widest))
+        inside = (slice(-rows.start if rows.start < 0 else 0, None), slice(-cols.start if cols.start < 0 else 0, None))
+        size = islands.shape[0]
+        rows, cols = slice(max(rows.start, 0), min(rows.stop, size)), slice(max(cols.start, 0), min(cols.stop, size))
+        inside = (slice(inside[0].start, inside[0].start + rows.stop - rows.start),
+                  slice(inside[1].start, inside[1].start + cols.stop - cols.start))
+        mask, orientation = mask[inside], orientation[inside]
+        canvas = Canvas(canvas.colour[inside], canvas.coverage[inside], canvas.height[inside],
+                        canvas.opacity[inside])
+    return IslandPainting(rows, cols, mask, canvas, orientation, placed, per_layer, tuple(analysis.sizes), carry)
+
+
+def fitted(rows: slice, cols: slice, apron: Apron, origin: Tuple[int, int], leading: np.ndarray) -> tuple:
+    """(rows, cols, apron): the box ``rows`` x ``cols`` (within the texture) widened to hold the ``leading`` (A,)
+    bool texels of ``apron`` (those the box must hold: the leading seams' and those within the island's margin), found in a box whose texel (0, 0) is the texture's (row, col) ``origin``, and the
+    apron's texels inside the new box, in its coordinates."""
+    r, c = apron.rows + origin[0], apron.cols + origin[1]
+    if leading.any():
+        rows = slice(min(rows.start, int(r[leading].min())), max(rows.stop, int(r[leading].max()) + 1))
+        cols = slice(min(cols.start, int(c[leading].min())), max(cols.stop, int(c[leading].max()) + 1))
+    inside = (r >= rows.start) & (r < rows.stop) & (c >= cols.start) & (c < cols.stop)
+    return rows, cols, Apron(r[inside] - rows.start, c[inside] - cols.start, apron.edge[inside],
+                             apron.neighbour[inside], apron.source[inside], apron.feather[inside])
+
+
+def padded(values: np.ndarray, rows: slice, cols: slice, fill) -> np.ndarray:
+    """A copy of ``values`` (N, N, ...) over the box ``rows`` x ``cols``, which may reach past the texture: ``fill``
+    there."""
+    size_y, size_x = values.shape[:2]
+    if rows.start >= 0 and cols.start >= 0 and rows.stop <= size_y and cols.stop <= size_x:
+        return values[rows, cols].copy()
+    out = np.full((rows.stop - rows.start, cols.stop - cols.start) + values.shape[2:], fill, values.dtype)
+    r0, c0 = max(rows.start, 0), max(cols.start, 0)
+    r1, c1 = min(rows.stop, size_y), min(cols.stop, size_x)
+    out[r0 - rows.start:r1 - rows.start, c0 - cols.start:c1 - cols.start] = values[r0:r1, c0:c1]
+    return out
+
+
+def edge_mask(apron: Apron, shape: Tuple[int, int], picked: Optional[np.ndarray] = None) -> np.ndarray:
+    """(h, w) bool: the apron's texels in a box of ``shape`` (those where ``picked`` (A,) bool holds, if given)."""
+    out = np.zeros(shape, bool)
+    out[apron.rows, apron.cols] = True if picked is None else picked
+    return out
+
+
+def transmitted(start: np.ndarray, now: np.ndarray) -> np.ndarray:
+    """(h, w) [0, 1]: how much of what a canvas held at ``start`` (h, w, 6) (``canvas_maps``) shows through the
+    strokes laid since, which left it at ``now``: their transmittance, (1 - coverage now) / (1 - coverage then),
+    0 where the canvas was covered already (what it held is then taken to be what lies beneath)."""
+    before, after = 1.0 - start[..., 5], 1.0 - now[..., 5]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(before > 1e-3, np.clip(after / before, 0.0, 1.0), 0.0)
+
+
+def laid_over(here: np.ndarray, carry: Carry) -> np.ndarray:
+    """(M, 6): texels holding ``here`` (M, 6) (``canvas_maps``) with the strokes of ``carry`` laid over them: its
+    values are the canvas now, then, and the transmittance (``transmitted``), so the strokes composite over what
+    the texels hold as they did over what the apron held, taken with the carry's weight."""
+    now, start, through = carry.values[:, :6], carry.values[:, 6:12], carry.values[:, 12:]
+    return here + carry.weight[:, None] * (now + (here - start) * through - here)
+
+
+def canvas_maps(canvas: Canvas) -> np.ndarray:
+    """(h, w, 6) float32: the canvas's colour (3), height, opacity and coverage, stacked."""
+    return np.concatenate([canvas.colour, canvas.height[..., None], canvas.opacity[..., None],
+                           canvas.coverage[..., None]], axis=2)
+
+
+def start_canvas(canvas: Canvas, maps: np.ndarray, where: np.ndarray) -> None:
+    """Set ``canvas`` to ``maps`` (h, w, 6) (``canvas_maps``'s stacking) where ``where`` (h, w) bool holds."""
+    canvas.colour[where] = maps[where, :3]
+    canvas.height[where] = maps[where, 3]
+    canvas.opacity[where] = maps[where, 4]
+    canvas.coverage[where] = maps[where, 5]
 
 
 def check_layout(texture: np.ndarray, layout: SurfaceLayout) -> None:
@@ -182,9 +312,9 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
     spans = texel_mm(layout)
     size = texture.shape[0]
     smoothing_mm = params.bilateral_sigma_spatial * size * np.sqrt(2.0) * median_texel_mm(layout)
-    colour = np.empty((size, size, 3), np.float32)
-    colour[:] = np.asarray(params.canvas_colour, np.float32)
-    height, opacity, coverage, orientation = (np.zeros((size, size), np.float32) for _ in range(4))
+    maps = np.zeros((size, size, 6), np.float32)          # colour, height, opacity, coverage (``canvas_maps``)
+    maps[..., :3] = np.asarray(params.canvas_colour, np.float32)
+    orientation = np.zeros((size, size), np.float32)
     present = np.unique(layout.islands[layout.islands != NO_ISLAND]).tolist()
     painted: Dict[int, IslandPainting] = {}
     for position, island in enumerate(present):
@@ -193,12 +323,15 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
                 fraction, f"Island {position + 1}/{len(present)}: {message}"))
         part = paint_island(texture, layout.islands, island, island_sizes(stroke_mm, spans[island - 1]),
                             smoothing_mm / spans[island - 1], params,
-                            Stage(named, cancel, position / len(present), (position + 1) / len(present)))
-        for target, values in ((colour, part.canvas.colour), (height, part.canvas.height),
-                               (opacity, part.canvas.opacity), (coverage, part.canvas.coverage),
-                               (orientation, part.orientation)):
-            target[part.rows, part.cols][part.mask] = values[part.mask]
+                            Stage(named, cancel, position / len(present), (position + 1) / len(present)),
+                            layout.charts, maps)
+        maps[part.rows, part.cols][part.mask] = canvas_maps(part.canvas)[part.mask]
+        orientation[part.rows, part.cols][part.mask] = part.orientation[part.mask]
+        if part.carry is not None and len(part.carry.rows):
+            maps[part.carry.rows, part.carry.cols] = laid_over(maps[part.carry.rows, part.carry.cols], part.carry)
         painted[island] = part
+    colour, height, opacity, coverage = (np.ascontiguousarray(maps[..., :3]), maps[..., 3].copy(),
+                                         maps[..., 4].copy(), maps[..., 5].copy())
     reach = bleed_texels(size)
     colour, height, opacity, coverage, orientation = (bled(values, layout.islands, reach) for values in
                                                        (colour, height, opacity, coverage, orientation))
