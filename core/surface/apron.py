@@ -33,7 +33,7 @@ from typing import NamedTuple, Tuple
 import numpy as np
 from scipy import ndimage
 
-from .islands import NO_ISLAND
+from .islands import NO_ISLAND, box_texels
 from .seams import shared_edges
 
 FEATHER_START = 0.75
@@ -168,18 +168,8 @@ def near_edges(ends: np.ndarray, reach: np.ndarray, shape: Tuple[int, int]) -> t
     h, w = shape
     low = np.clip(np.floor(ends.min(axis=1) - reach[:, None]), 0, [w - 1, h - 1]).astype(np.int64)
     high = np.clip(np.ceil(ends.max(axis=1) + reach[:, None]), 0, [w - 1, h - 1]).astype(np.int64)
-    width, height = np.maximum(high[:, 0] - low[:, 0] + 1, 0), np.maximum(high[:, 1] - low[:, 1] + 1, 0)
-    area = width * height
     found = []
-    start = 0
-    while start < len(ends):
-        stop = start + max(1, int(np.searchsorted(np.cumsum(area[start:]), BAND_CHUNK)))
-        picked = np.arange(start, min(stop, len(ends)))
-        counts = area[picked]
-        segment = np.repeat(picked, counts)
-        offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-        x = low[segment, 0] + offset % np.maximum(width[segment], 1)
-        y = low[segment, 1] + offset // np.maximum(width[segment], 1)
+    for segment, x, y in box_texels(low, high, BAND_CHUNK):
         a, b = ends[segment, 0], ends[segment, 1]
         d = b - a
         length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-24)
@@ -188,7 +178,6 @@ def near_edges(ends: np.ndarray, reach: np.ndarray, shape: Tuple[int, int]) -> t
         distance = np.hypot(px - t * d[:, 0], py - t * d[:, 1])
         close = distance <= reach[segment]
         found.append((y[close] * w + x[close], segment[close], distance[close]))
-        start = picked[-1] + 1
     flat, segment, distance = (np.concatenate(parts) for parts in zip(*found, strict=True))
     order = np.lexsort((segment, distance, flat))
     flat, segment, distance = flat[order], segment[order], distance[order]

@@ -58,21 +58,28 @@ def island_map(uv: np.ndarray, islands: np.ndarray, size: int) -> np.ndarray:
     corners = np.stack([uv[..., 0] * size - 0.5, (1.0 - uv[..., 1]) * size - 0.5], axis=-1)   # texel (x, y)
     low = np.clip(np.ceil(corners.min(axis=1) - 1e-9), 0, size - 1).astype(np.int64)
     high = np.clip(np.floor(corners.max(axis=1) + 1e-9), 0, size - 1).astype(np.int64)
+    for triangle, x, y in box_texels(low, high, RASTER_CHUNK):
+        inside = covers(corners[triangle], x.astype(np.float64), y.astype(np.float64))
+        out[y[inside], x[inside]] = islands[triangle[inside]]      # later triangles written last: they win
+    return out
+
+
+def box_texels(low: np.ndarray, high: np.ndarray, chunk: int):
+    """The texels of N boxes from ``low`` to ``high`` (N, 2) int64 texel (x, y), both inclusive (a box whose high is
+    below its low holds none), in pieces of about ``chunk`` texels (a box is never split): yields (box (M,), x (M,),
+    y (M,)) int64, the boxes in order and each box's texels row by row."""
     width, height = np.maximum(high[:, 0] - low[:, 0] + 1, 0), np.maximum(high[:, 1] - low[:, 1] + 1, 0)
     area = width * height
     start = 0
-    while start < len(uv):
-        stop = start + max(1, int(np.searchsorted(np.cumsum(area[start:]), RASTER_CHUNK)))
-        picked = np.arange(start, min(stop, len(uv)))
+    while start < len(low):
+        stop = start + max(1, int(np.searchsorted(np.cumsum(area[start:]), chunk)))
+        picked = np.arange(start, min(stop, len(low)))
         counts = area[picked]
-        triangle = np.repeat(picked, counts)
+        box = np.repeat(picked, counts)
         offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-        x = low[triangle, 0] + offset % np.maximum(width[triangle], 1)
-        y = low[triangle, 1] + offset // np.maximum(width[triangle], 1)
-        inside = covers(corners[triangle], x.astype(np.float64), y.astype(np.float64))
-        out[y[inside], x[inside]] = islands[triangle[inside]]      # later triangles written last: they win
+        yield (box, low[box, 0] + offset % np.maximum(width[box], 1),
+               low[box, 1] + offset // np.maximum(width[box], 1))
         start = picked[-1] + 1
-    return out
 
 
 def covers(corners: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
