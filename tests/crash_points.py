@@ -105,7 +105,7 @@ _ORIGINAL: Dict[str, Callable] = {}
 
 
 def _where(path, dir_fd=None) -> str:
-    """The absolute, resolved form of ``path`` (relative to ``dir_fd`` when given), or '' for a file descriptor."""
+    """The absolute path of ``path`` (relative to ``dir_fd`` when given; a file descriptor's file), its folder resolved."""
     if isinstance(path, int):
         return _fd_path(path)
     path = os.fsdecode(path)
