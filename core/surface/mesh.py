@@ -3,8 +3,8 @@
 Blender hands the painter its loop triangles' arrays directly. On the command
 line a mesh comes as a Wavefront OBJ file, the plain text every 3-D program
 writes: its ``v`` positions (in metres, as Blender writes them at scale 1),
-its ``vt`` texture coordinates and its ``f`` faces, each polygon cut into a
-fan of triangles.
+its ``vt`` texture coordinates and its ``f`` faces, each polygon cut into
+triangles that stay inside it (``polygons``: a fan where it is convex).
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from typing import List, NamedTuple
 import numpy as np
 
 from ..errors import InputError, reading_error
+from .polygons import triangles as polygon_triangles
 
 
 class SurfaceMesh(NamedTuple):
@@ -69,8 +70,9 @@ def read_obj(path) -> SurfaceMesh:
         raise InputError(f"The mesh {path} has no faces to paint.")
     if any(uv < 0 for face in faces for _, uv in face):
         raise InputError(f"The mesh {path} has faces without texture coordinates: unwrap it (a UV map) first.")
-    triangles = np.array([(face[0], face[k], face[k + 1]) for face in faces for k in range(1, len(face) - 1)])
     points, uvs = np.array(positions, np.float64), np.array(coordinates, np.float64)
+    triangles = np.array([(face[a], face[b], face[c]) for face in faces
+                          for a, b, c in polygon_triangles(points[[p for p, _ in face]])])
     return check_mesh(SurfaceMesh(uvs[triangles[..., 1]], points[triangles[..., 0]]), str(path))
 
 
