@@ -10,10 +10,19 @@ material's Displacement moves it at render time over a Subdivision Surface
 that Cycles dices adaptively, as a canvas's can; with ``NORMAL_MAP``, the
 painter's normal map shades it and its geometry stays.
 
-The materials the object had and its painted material are held on the
+A texture set painted from several sources (material slots with images
+of their own, UDIM tiles: ``sources``) gives one painted material per
+source, each reading its own maps (``color.s<k>.exr``, or the UDIM tiles
+``color.s<k>.<UDIM>.exr``) through the object's UV map, and each slot shows
+its source's; the relief's Displace modifier reads the whole set's height
+map (the atlas) through a UV map of its own, ATLAS_UV_MAP.
+
+The materials the object had and its painted materials are held on the
 object by ID properties that point at them (ORIGINALS_KEY: {"slots": the
 number of material slots, "materials": {slot index: material}}, empty slots
-left out; PAINTED_KEY: the painted material). Such a pointer is a user of
+left out; PAINTED_KEY: the painted material of the first source;
+PAINTED_SLOTS_KEY, for several sources: the painted material of each slot,
+as ORIGINALS_KEY holds the originals). Such a pointer is a user of
 the material, so Blender writes it into the file whichever of the two the
 object shows, keeps it through undo and object duplication, and keeps it
 with the extension disabled (ID properties need no registration). One
@@ -30,36 +39,76 @@ import bpy
 from .. import values
 from ..scene import canvas_plane, maps
 from ..scene import material as canvas_material
+from . import texture_set
 from .relief import add_relief, relief_modifiers, remove_relief
 from .surface import uv_map_name
 
 ORIGINALS_KEY = "paint_relief_originals"
 LEGACY_ORIGINALS_KEY = "paint_relief_original_materials"
 PAINTED_KEY = values.PAINTED_MATERIAL_KEY
+PAINTED_SLOTS_KEY = "paint_relief_painted_slots"
+ATLAS_UV_MAP = "Paint Relief Atlas"
 
 
-def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
-    """Give ``obj`` of ``scene`` the painting in ``folder``: its painted material in every slot (made, or updated
-    when it has one) and the relief (``relief``: 'DISPLACE', 'CYCLES_ADAPTIVE' or 'NORMAL_MAP'); the materials it
-    shows are kept as its originals unless it shows its painting (those it had before stay kept then). Returns
-    the material. Raises maps.CanvasError (before changing anything) when a map cannot be used."""
+def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_source=None, atlas_uv=None):
+    """Give ``obj`` of ``scene`` the painting in ``folder``: its painted materials (made, or updated when it has
+    them; one per source of a texture set, ``slot_source`` giving each slot's source and ``atlas_uv`` (T, 3, 2)
+    its loop triangles' coordinates in the atlas, ``texture_set``) and the relief
+    (``relief``: 'DISPLACE', 'CYCLES_ADAPTIVE' or 'NORMAL_MAP'); the materials it shows are kept as its
+    originals unless it shows its painting (those it had before stay kept then). Returns the first source's
+    material. Raises maps.CanvasError (before changing anything) when a map cannot be used."""
     normal_map, adaptive = relief == "NORMAL_MAP", relief == "CYCLES_ADAPTIVE"
-    images = maps.load_maps(folder, values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ()))
-    painted = painted_material(obj)
-    if painted is None:
-        painted = bpy.data.materials.new("Paint Relief " + obj.name)
-    canvas_material.build_material(painted, images, thickness, adaptive, normal_map, uv_map_name(obj))
-    canvas_material.set_material_displacement(painted, "DISPLACEMENT" if adaptive else "BUMP")
+    roles = values.CANVAS_MAPS + ((values.NORMAL_MAP,) if normal_map else ())
+    images = maps.load_maps(folder, roles)
+    atlas = texture_set.read_atlas(folder)
+    several = texture_set.is_set(atlas)
+    if several and atlas_uv is None:
+        raise maps.CanvasError("The painting in {} is a texture set of {} cells: paint {} again to show "
+                               "it.".format(folder, len(atlas["cells"]), obj.name))
+    sets = texture_set.source_images(folder, atlas, roles) if several else [images]
+    uv_map = uv_map_name(obj)
+    made = []
+    for source, source_images in enumerate(sets):
+        name = "Paint Relief " + obj.name + ("" if source == 0 else " {}".format(source + 1))
+        material = (painted_material(obj) if source == 0 else painted_slot_material(obj, source)) or \
+            bpy.data.materials.new(name)
+        canvas_material.build_material(material, source_images, thickness, adaptive, normal_map, uv_map)
+        canvas_material.set_material_displacement(material, "DISPLACEMENT" if adaptive else "BUMP")
+        made.append(material)
     keep_originals(obj, (original_materials(obj) or []) if shows_painting(obj) else
                    [slot.material for slot in obj.material_slots])
-    obj[PAINTED_KEY] = painted
+    obj[PAINTED_KEY] = made[0]
+    if len(made) > 1:
+        slots = list(slot_source) if slot_source is not None else [0] * len(obj.material_slots)
+        obj[PAINTED_SLOTS_KEY] = {"slots": len(slots), "sources": {str(k): m for k, m in enumerate(made)},
+                                  "materials": {str(slot): made[min(k, len(made) - 1)] for slot, k in enumerate(slots)}}
+    elif PAINTED_SLOTS_KEY in obj:
+        del obj[PAINTED_SLOTS_KEY]
     remove_relief(obj)
+    if not several:
+        texture_set.remove_atlas_uv(obj, ATLAS_UV_MAP)
     if adaptive:
         canvas_plane.add_adaptive_subdivision(scene, obj)
     elif not normal_map:
-        add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size)
+        relief_uv = texture_set.write_atlas_uv(obj, atlas_uv, ATLAS_UV_MAP) if several else uv_map
+        add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size, relief_uv)
     show_painting(obj, True)
-    return painted
+    return made[0]
+
+
+def painted_slot_material(obj, source):
+    """The painted material of a texture set's ``source`` (> 0) that ``obj`` holds (PAINTED_SLOTS_KEY), or None."""
+    kept = obj.get(PAINTED_SLOTS_KEY)
+    return None if kept is None else kept.get("sources", {}).get(str(source))
+
+
+def painted_slot_materials(obj):
+    """{slot index: painted material} for an object painted from several sources, else {}."""
+    kept = obj.get(PAINTED_SLOTS_KEY)
+    if kept is None:
+        return {}
+    materials = kept.get("materials", {})
+    return {int(index): material for index, material in materials.items()}
 
 
 def painted_material(obj):
@@ -103,8 +152,9 @@ def source_materials(obj):
 
 def shows_painting(obj):
     """Whether ``obj`` shows its painted material now."""
-    painted = painted_material(obj)
-    return painted is not None and any(slot.material == painted for slot in obj.material_slots)
+    painted = {painted_material(obj)} | set(painted_slot_materials(obj).values())
+    painted.discard(None)
+    return any(slot.material in painted for slot in obj.material_slots)
 
 
 def _adopt(obj):
@@ -127,12 +177,12 @@ def show_painting(obj, painted):
 
 def _show(obj, painted):
     """``show_painting`` without adopting what a file painted before names."""
-    material = painted_material(obj)
+    material, per_slot = painted_material(obj), painted_slot_materials(obj)
     if painted and material is not None:
         if not obj.material_slots:
             obj.data.materials.append(material)
-        for slot in obj.material_slots:
-            slot.material = material
+        for index, slot in enumerate(obj.material_slots):
+            slot.material = per_slot.get(index) or material
     elif not painted:
         originals = original_materials(obj) or []
         for slot, original in zip(obj.material_slots, originals, strict=False):   # slots added since keep theirs

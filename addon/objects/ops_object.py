@@ -3,9 +3,10 @@
 map, and switch between the painted material and the one the object had.
 
 Paint Object gathers on the main thread what the painter needs: the mesh's
-triangles and the texture's source (``surface.texture_source``, which may
-bake; an object painted before shows its original materials meanwhile, so
-its source is theirs, never the painting). The work is one call of
+triangles and the texture set's sources, one per material slot
+(``sources.texture_sources``, which may bake; an object painted before shows
+its original materials meanwhile, so its sources are theirs, never the
+painting). The work is one call of
 ``core.paint_object``, in a worker thread with the progress bar and Esc
 interactively, or at once headless (``modal_job``). Once it is done, the object gets its painted material and
 relief (``object_material``).
@@ -24,7 +25,7 @@ from ..painting import jobs
 from ..painting.ops_paint import params_from_settings
 from ..scene.maps import CanvasError
 from ..settings import properties
-from . import object_material, surface
+from . import object_material, sources, surface
 
 
 def object_output_dir(context, obj):
@@ -38,16 +39,18 @@ def object_output_dir(context, obj):
 
 class ObjectJob:
     """What Paint Object hands its worker and its finish: ``work(progress, cancel)``, the sentence of an
-    unexpected ``failure``, the object, its texture's size, and ``scratch``, a folder of its own holding the
-    texture's source when Blender had it only in memory or baked it (the painter keeps a copy with the maps as
-    source.png; the folder is removed either way)."""
+    unexpected ``failure``, the object, its texture's size, ``scratch``, a folder of its own holding the
+    texture's sources when Blender had them only in memory or baked them (the painter keeps a copy with the maps
+    as source.png; the folder is removed either way), the mesh painted (``core.SurfaceMesh``) and its sources
+    (``sources.SourceSet``)."""
 
-    def __init__(self, work, failure, obj, size, scratch):
+    def __init__(self, work, failure, obj, size, scratch, mesh, source_set):
         self.work, self.failure, self.obj, self.size, self.scratch = work, failure, obj, size, scratch
+        self.mesh, self.source_set = mesh, source_set
 
     def finish(self, operator, context, report):
         """Give the object its painting, tell the user."""
-        _finish(operator, context, self.obj, self.size, report)
+        _finish(operator, context, self, report)
 
     def clean(self):
         """Remove the scratch folder."""
@@ -78,29 +81,35 @@ def _prepare(operator, context):
         widths = values.parse_widths(settings.object_stroke_mm)
         folder = object_output_dir(context, obj)
         properties.check_output_folder(folder)
-        with object_material.original_shown(obj):  # a painted object's source is its original's, never the painting
-            source, _ = surface.texture_source(context, obj, settings.object_texture_path, size, scratch)
-        uv, position = surface.mesh_triangles(context, obj)
+        with object_material.original_shown(obj):  # a painted object's sources are its originals', never the painting
+            source_set = sources.texture_sources(context, obj, settings.object_texture_path, size, scratch)
+        uv, position, material_index = surface.mesh_triangles(context, obj)
     except (ValueError, RuntimeError, core.PaintReliefError) as error:
         shutil.rmtree(scratch, ignore_errors=True)
         operator.report({"ERROR"}, str(error))
         return None
-    mesh = core.SurfaceMesh(uv, position)
-    normal_map, keep_source = settings.object_relief == "NORMAL_MAP", os.path.dirname(source) == scratch
+    mesh = core.SurfaceMesh(uv, position, sources.triangle_sources(material_index, source_set.slot_source))
+    paths = source_set.paths
+    normal_map = settings.object_relief == "NORMAL_MAP"
+    keep_source = any(os.path.dirname(path) == scratch for path in paths)
 
     def work(progress, cancel):
-        return core.paint_object(source, mesh, folder, params, size, widths, progress=progress, cancel=cancel,
-                                 normal_map=normal_map, keep_source=keep_source)
+        return core.paint_object(paths[0] if len(paths) == 1 else paths, mesh, folder, params, size, widths,
+                                 progress=progress, cancel=cancel, normal_map=normal_map, keep_source=keep_source)
 
-    return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch)
+    return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch, mesh,
+                     source_set)
 
 
-def _finish(operator, context, obj, size, report):
+def _finish(operator, context, job, report):
     """Give the object its painting; report how many strokes went where (or why the maps cannot be shown)."""
-    settings = context.scene.paint_relief
+    from ... import core
+
+    settings, obj = context.scene.paint_relief, job.obj
+    atlas_uv = core.atlas_uv(job.mesh, job.source_set.paths, report["atlas"])
     try:
         object_material.paint_object_look(context.scene, obj, report["output_dir"], settings.thickness_mm / 1000.0,
-                                          settings.object_relief, size)
+                                          settings.object_relief, job.size, job.source_set.slot_source, atlas_uv)
     except CanvasError as error:
         operator.report({"ERROR"}, str(error))
         return

@@ -86,12 +86,12 @@ def add_triangles(obj):
     return modifier
 
 
-def add_relief(obj, height_image, thickness, texture_size):
+def add_relief(obj, height_image, thickness, texture_size, uv_map=None):
     """Displace ``obj`` by ``thickness`` metres x the height map, after the modifiers it has, keeping its shape
     and shading: its shading normals as custom normals (unless the stack gives its own), its faces cut into the
     render's triangles (where custom normals survive that), a simple Subdivision Surface fine enough for the
     texture (``values.relief_levels`` of its faces) that interpolates the normals, and a Displace modifier along
-    them through the UV map. Returns the modifiers added."""
+    them through the UV map ``uv_map`` (default: ``uv_map_name``). Returns the modifiers added."""
     levels = values.relief_levels(len(obj.data.polygons), texture_size)
     for modifier in relief_modifiers(obj):
         obj.modifiers.remove(modifier)
@@ -103,7 +103,8 @@ def add_relief(obj, height_image, thickness, texture_size):
     subdivision.render_levels = levels
     subdivision.use_custom_normals = True
     displace = canvas_plane.add_displace(obj, height_image, thickness)
-    displace.uv_layer = uv_map_name(obj)
+    displace.uv_layer = uv_map or uv_map_name(obj)
+    displace.texture.extension = "REPEAT"       # as a material reads an image: UVs in another square wrap
     displace.direction = "CUSTOM_NORMAL"
     added = [m for m in (normals, triangles, subdivision, displace) if m is not None]
     for modifier in added:

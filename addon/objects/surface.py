@@ -1,13 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""What the painter needs of a mesh object: its triangles' UV coordinates and world positions, and the picture
-its texture is painted from.
+"""What the painter needs of a mesh object: its triangles' UV coordinates, world positions and material slots,
+and the pictures its texture set is painted from (``sources`` chooses them).
 
-The source is the image that feeds the Base Color of the object's material
-(a Principled BSDF's input linked from an Image Texture node), else the file
-the user names, else a Cycles bake of the object's diffuse colour (DIFFUSE
-with COLOR only: the surface's colour without the scene's light) into its
-UV layout. An image with no file on disk (packed, generated or baked) is
-written out as a PNG for the painter.
+A material's picture is the image that feeds the Base Color of its
+Principled BSDF (an Image Texture node linked to the input), else a Cycles
+bake of its diffuse colour (DIFFUSE with COLOR only: the surface's colour
+without the scene's light) into the UV layout. An image with no file on
+disk (packed, generated or baked) is written out as a PNG for the painter.
 """
 
 import os
@@ -39,9 +38,9 @@ def uv_map_name(obj):
 
 
 def mesh_triangles(context, obj):
-    """(uv (T, 3, 2) float64, position (T, 3, 3) float64 metres): the corners of the object's mesh's loop
-    triangles (its own mesh, before modifiers), UVs of ``uv_map_name``, positions in the world (the object's
-    transform and the scene's unit scale applied)."""
+    """(uv (T, 3, 2) float64, position (T, 3, 3) float64 metres, material_index (T,) int32): the corners of the
+    object's mesh's loop triangles (its own mesh, before modifiers), UVs of ``uv_map_name``, positions in the
+    world (the object's transform and the scene's unit scale applied), and each triangle's material slot."""
     mesh = obj.data
     mesh.calc_loop_triangles()
     count = len(mesh.loop_triangles)
@@ -49,6 +48,8 @@ def mesh_triangles(context, obj):
     mesh.loop_triangles.foreach_get("loops", loops)
     vertices = np.empty(count * 3, np.int32)
     mesh.loop_triangles.foreach_get("vertices", vertices)
+    material_index = np.empty(count, np.int32)
+    mesh.loop_triangles.foreach_get("material_index", material_index)
     uv = np.empty(len(mesh.loops) * 2, np.float32)
     mesh.uv_layers[uv_map_name(obj)].data.foreach_get("uv", uv)
     co = np.empty(len(mesh.vertices) * 3, np.float32)
@@ -57,7 +58,7 @@ def mesh_triangles(context, obj):
     points = co.reshape(-1, 3).astype(np.float64) @ world[:3, :3].T + world[:3, 3]
     points *= context.scene.unit_settings.scale_length
     return (uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2),
-            points[vertices].reshape(count, 3, 3))
+            points[vertices].reshape(count, 3, 3), material_index)
 
 
 def base_color_image(obj, materials=None):
@@ -102,28 +103,28 @@ def write_image(image, path):
     return path
 
 
-def bake_diffuse_colour(context, obj, size, path):
-    """Bake ``obj``'s diffuse colour (Cycles, DIFFUSE with COLOR only) into a ``size`` x ``size`` image in its UV
-    layout and write it to the PNG ``path``; returns ``path``. The scene's render engine and samples, the
-    selection and the materials are as they were afterwards. ValueError (one sentence) when the object has no
-    material to bake."""
-    materials = [slot.material for slot in obj.material_slots if slot.material is not None]
-    if not materials:
-        raise ValueError("Object {} has no material, so there is no colour to bake: give it a material or "
-                         "choose a texture file.".format(obj.name))
+def bake_diffuse_colours(context, obj, size, paths):
+    """Bake ``obj``'s diffuse colour (Cycles, DIFFUSE with COLOR only) in its UV layout, each material of the
+    dict ``paths`` into its own ``size`` x ``size`` image written to the PNG ``paths[material]`` (one bake: the
+    faces of the object's other materials go to a target thrown away). The scene's render engine and samples,
+    the selection and the materials are as they were afterwards."""
     scene = context.scene
     engine, samples = scene.render.engine, scene.cycles.samples
     selected = [o for o in context.view_layer.objects if o.select_get()]
     active = context.view_layer.objects.active
-    image = bpy.data.images.new(BAKE_IMAGE_NAME, size, size, alpha=False)
-    added = []
+    targets = {material: bpy.data.images.new(BAKE_IMAGE_NAME, size, size, alpha=False) for material in paths}
+    throwaway = None
+    added, nodes_off = [], []
     try:
-        for material in materials:
-            if material.node_tree is None:
+        for material in {slot.material for slot in obj.material_slots if slot.material is not None}:
+            if material.node_tree is None or not material.use_nodes:
+                nodes_off.append(material)
                 material.use_nodes = True
+            if material not in targets and throwaway is None:
+                throwaway = bpy.data.images.new(BAKE_IMAGE_NAME, 8, 8, alpha=False)
             node = material.node_tree.nodes.new("ShaderNodeTexImage")
             node.name = BAKE_NODE_NAME
-            node.image = image
+            node.image = targets.get(material, throwaway)
             material.node_tree.nodes.active = node
             added.append((material, node))
         scene.render.engine = "CYCLES"
@@ -133,30 +134,17 @@ def bake_diffuse_colour(context, obj, size, path):
         obj.select_set(True)
         context.view_layer.objects.active = obj
         bpy.ops.object.bake(type="DIFFUSE", pass_filter={"COLOR"}, margin=8, use_clear=True)
-        return write_image(image, path)
+        for material, path in paths.items():
+            write_image(targets[material], path)
     finally:
         for material, node in added:
             material.node_tree.nodes.remove(node)
-        bpy.data.images.remove(image)
+        for material in nodes_off:
+            material.use_nodes = False
+        for image in list(targets.values()) + ([throwaway] if throwaway is not None else []):
+            bpy.data.images.remove(image)
         scene.render.engine, scene.cycles.samples = engine, samples
         obj.select_set(False)
         for other in selected:
             other.select_set(True)
         context.view_layer.objects.active = active
-
-
-def texture_source(context, obj, file_path, size, scratch):
-    """(path of the picture to paint, what it is: "base color", "file" or "bake") for ``obj``: its Base Color
-    image (written to ``scratch``/source.png when it has no file on disk), else ``file_path`` when set, else a
-    bake of ``size`` texels written there. ValueError (one sentence) when none can be had."""
-    image = base_color_image(obj)
-    written = os.path.join(scratch, "source.png")
-    if image is not None:
-        on_disk = image_on_disk(image)
-        return (on_disk if on_disk is not None else write_image(image, written)), "base color"
-    if file_path:
-        path = os.path.normpath(bpy.path.abspath(file_path))
-        if not os.path.isfile(path):
-            raise ValueError("Texture {} does not exist.".format(path))
-        return path, "file"
-    return bake_diffuse_colour(context, obj, size, written), "bake"

@@ -1,0 +1,119 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The pictures an object's texture set is painted from: one per material slot, shared where slots share one.
+
+Each slot's source is, in this order: the image feeding the Base Color of
+its material's Principled BSDF (a UDIM tiled image as its path with
+``<UDIM>``, every tile on disk; an image Blender holds only in memory
+written out as a PNG), else the texture file the user names, else a Cycles
+bake of that material's diffuse colour (``surface.bake_diffuse_colours``;
+a material without nodes renders its one colour, which is its source).
+Slots with the same image or the same file share a source, so the painter
+paints it once; every baked material has its own. Each triangle of the mesh
+is painted from its slot's source (``triangle_sources``).
+"""
+
+import os
+from typing import List, NamedTuple
+
+import bpy
+import numpy as np
+
+from .surface import base_color_image, bake_diffuse_colours, image_on_disk, write_image
+
+UDIM_TOKEN = "<UDIM>"
+
+
+class SourceSet(NamedTuple):
+    """The sources of one object's texture set."""
+
+    paths: List[str]            # one per source: an image file, or a UDIM path holding UDIM_TOKEN
+    kinds: List[str]            # one per source: "base color", "udim", "file" or "bake"
+    slot_source: List[int]      # one per material slot (one for an object without slots): its source's index
+
+
+def tiled_path(image):
+    """The ``<UDIM>`` path of the tiled ``image`` whose every tile is a file on disk; ValueError (one sentence
+    naming the image and the file) when it is packed, generated or a tile's file is missing."""
+    path = os.path.normpath(bpy.path.abspath(image.filepath, library=image.library))
+    if image.packed_file is not None or UDIM_TOKEN not in path:
+        raise ValueError("UDIM image {} has no tiles on disk: save its tiles (Image > Save) and paint "
+                         "again.".format(image.name))
+    for tile in image.tiles:
+        tile_file = path.replace(UDIM_TOKEN, str(tile.number))
+        if not os.path.isfile(tile_file):
+            raise ValueError("Tile {} of UDIM image {} is missing: {} does not exist.".format(
+                tile.number, image.name, tile_file))
+    return path
+
+
+def image_source(image, scratch, index):
+    """(path, kind) of the painter's picture of ``image``: its file, its UDIM path, or its pixels written to
+    ``scratch``/source.``index``.png when Blender has it only in memory."""
+    if image.source == "TILED":
+        return tiled_path(image), "udim"
+    on_disk = image_on_disk(image)
+    if on_disk is not None:
+        return on_disk, "base color"
+    return write_image(image, os.path.join(scratch, "source.{}.png".format(index))), "base color"
+
+
+def flat_colour(material, scratch, index):
+    """The path of a small PNG of the one colour ``material`` (without nodes) renders, written to
+    ``scratch``/source.``index``.png."""
+    from ...core.colour import linear_to_srgb
+    from ...core.files.writing import write_png
+
+    colour = linear_to_srgb(np.clip(np.array(material.diffuse_color[:3], np.float32), 0.0, 1.0))
+    path = os.path.join(scratch, "source.{}.png".format(index))
+    write_png(path, np.broadcast_to(colour, (8, 8, 3)).copy(), bits=16)
+    return path
+
+
+def texture_sources(context, obj, file_path, size, scratch):
+    """The ``SourceSet`` of ``obj`` (module docstring); baked and in-memory pictures are written to ``scratch``,
+    bakes ``size`` texels square. ValueError (one sentence naming the object, image or file) when a slot has no
+    source to be had."""
+    materials = [slot.material for slot in obj.material_slots] or [None]
+    paths, kinds, slot_source, known, baked = [], [], [], {}, {}
+
+    def source_of(key, make):
+        if key not in known:
+            path, kind = make(len(paths))
+            known[key] = len(paths)
+            paths.append(path)
+            kinds.append(kind)
+        return known[key]
+
+    if not obj.material_slots and not file_path:
+        raise ValueError("Object {} has no material, so there is no colour to bake: give it a material or "
+                         "choose a texture file.".format(obj.name))
+    chosen = os.path.normpath(bpy.path.abspath(file_path)) if file_path else None
+    for material in materials:
+        image = base_color_image(obj, [material]) if material is not None else None
+        if image is not None:
+            slot_source.append(source_of(("image", image.name), lambda k, image=image: image_source(image, scratch,
+                                                                                                   k)))
+        elif chosen is not None:
+            if not os.path.isfile(chosen):
+                raise ValueError("Texture {} does not exist.".format(chosen))
+            slot_source.append(source_of(("file", chosen), lambda k: (chosen, "file")))
+        elif material is not None and (material.node_tree is None or not material.use_nodes):
+            slot_source.append(source_of(("colour", material.name),
+                                         lambda k, material=material: (flat_colour(material, scratch, k), "colour")))
+        elif material is None:
+            raise ValueError("Object {} has a material slot without a material, so there is no colour to paint: "
+                             "give it a material or choose a texture file.".format(obj.name))
+        else:
+            slot_source.append(source_of(("bake", material.name),
+                                         lambda k, material=material: (baked.setdefault(
+                                             material, os.path.join(scratch, "bake.{}.png".format(k))), "bake")))
+    if baked:
+        bake_diffuse_colours(context, obj, size, baked)
+    return SourceSet(paths, kinds, slot_source)
+
+
+def triangle_sources(material_index, slot_source):
+    """(T,) int: the source of each triangle, from its (T,) material slot index ``material_index`` (an index past
+    the slots, as Blender allows, counts as the last slot)."""
+    slots = np.asarray(slot_source, np.int64)
+    return slots[np.clip(np.asarray(material_index, np.int64), 0, len(slots) - 1)]
