@@ -60,7 +60,6 @@ def material(name, photo=None, colour=(0.8, 0.3, 0.05, 1.0)):
 
 def noise_material(name):
     """A material whose Base Color is a coloured procedural noise in object space (continuous on the surface)."""
-    import bpy
 
     made = material(name)
     nodes, links = made.node_tree.nodes, made.node_tree.links

@@ -18,7 +18,7 @@ from typing import List, NamedTuple
 import bpy
 import numpy as np
 
-from .surface import base_color_image, bake_diffuse_colours, image_on_disk, write_image
+from .surface import bake_diffuse_colours, base_color_image, image_on_disk, write_image
 
 UDIM_TOKEN = "<UDIM>"
 
