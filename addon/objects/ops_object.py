@@ -25,7 +25,7 @@ from ..painting import jobs
 from ..painting.ops_paint import params_from_settings
 from ..scene.maps import CanvasError
 from ..settings import properties
-from . import object_material, sources, surface
+from . import object_material, sources, surface, texture_set
 
 
 def object_output_dir(context, obj):
@@ -103,10 +103,11 @@ def _prepare(operator, context):
 
 def _finish(operator, context, job, report):
     """Give the object its painting; report how many strokes went where (or why the maps cannot be shown)."""
-    from ... import core
+    from ...core.surface.atlas import triangle_atlas_uv
 
     settings, obj = context.scene.paint_relief, job.obj
-    atlas_uv = core.atlas_uv(job.mesh, job.source_set.paths, report["atlas"])
+    atlas = report.get("atlas")
+    atlas_uv = triangle_atlas_uv(job.mesh.uv, job.mesh.source, None, atlas) if texture_set.is_set(atlas) else None
     try:
         object_material.paint_object_look(context.scene, obj, report["output_dir"], settings.thickness_mm / 1000.0,
                                           settings.object_relief, job.size, job.source_set.slot_source, atlas_uv)
