@@ -12,7 +12,7 @@ row 0 is the top of the image, as the painter's pictures are stored.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, Optional
 
 import numpy as np
 from scipy import ndimage
@@ -26,15 +26,18 @@ RASTER_CHUNK = 1 << 22
 """Texels tested at once while triangles are rasterised: bounds the memory of ``island_map``."""
 
 
-def uv_islands(uv: np.ndarray) -> np.ndarray:
+def uv_islands(uv: np.ndarray, cell: Optional[np.ndarray] = None) -> np.ndarray:
     """(T,) int32 in 1 .. K: the island of each of T triangles, ``uv`` (T, 3, 2) their corners' UV coordinates.
 
     Islands are the connected components of triangles sharing a UV edge (the same two UV points, in either order),
-    numbered 1 .. K in the order of their first triangle."""
+    numbered 1 .. K in the order of their first triangle. With ``cell`` (T,) int (the atlas cell of each triangle,
+    ``atlas.Atlas.cell``), triangles of two cells share no edge, so an island never spans cells."""
     count = len(uv)
     if count == 0:
         return np.zeros(0, np.int32)
     corners = uv.reshape(-1, 2)
+    if cell is not None:
+        corners = np.concatenate([corners, np.repeat(np.asarray(cell, np.float64), 3)[:, None]], axis=1)
     _, point = np.unique(corners, axis=0, return_inverse=True)
     point = point.reshape(count, 3)
     edges = np.concatenate([point[:, [0, 1]], point[:, [1, 2]], point[:, [2, 0]]])

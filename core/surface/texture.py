@@ -65,16 +65,19 @@ class SurfaceLayout(NamedTuple):
     charts: Optional[SeamCharts] = None     # the chart maps across the seams (``apron.seam_charts``); None: apart
 
 
-def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True) -> SurfaceLayout:
+def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True,
+                   cell: Optional[np.ndarray] = None) -> SurfaceLayout:
     """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, the
     samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them, and, with
-    ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart)."""
-    islands = uv_islands(mesh.uv)
+    ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart).
+    ``cell`` (T,) int: each triangle's atlas cell (``atlas.Atlas``, whose UV ``mesh`` then holds); islands end
+    where cells change, and the edges there are seams."""
+    islands = uv_islands(mesh.uv, cell)
     density = texel_density(mesh.uv, mesh.position, islands)
     offset_m = OFFSET_TEXELS * float(np.nanmax(density.island, initial=0.0)) / size
     charts = seam_charts(mesh.uv, mesh.position, islands, size) if across_seams else None
-    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m),
-                         charts)
+    return SurfaceLayout(island_map(mesh.uv, islands, size), density,
+                         edge_samples(mesh.uv, mesh.position, offset_m, None if cell is None else islands), charts)
 
 
 def square_texture(image: np.ndarray, size: int) -> np.ndarray:
