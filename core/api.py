@@ -462,8 +462,7 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
         pictures = [square_texture(reading.read_image(file, params.max_megapixels, params.canvas_colour), size)
                     for file in files]
         texture["atlas"] = composed(atlas, pictures, size, params.canvas_colour) if several else pictures[0]
-        layout = surface_layout(SurfaceMesh(atlas.uv, surface.position), full, across_seams,
-                                atlas.cell if several else None)
+        layout = surface_layout(SurfaceMesh(atlas.uv, surface.position), full, across_seams, atlas)
         return paint_texture(texture["atlas"], layout, params, stroke_mm, progress, cancel)
 
     def written(staging: Path, painting) -> dict:

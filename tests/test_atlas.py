@@ -205,8 +205,8 @@ def test_a_strip_over_two_tiles_painted_across_seams_runs_on_over_the_tile_borde
     size = 2 * 128
     assert uv_islands(flat.uv).max() == 1 and uv_islands(flat.uv, atlas.cell).max() == 2
     source = baked(flat, size)
-    across = surface_layout(flat, size, True, atlas.cell)
-    apart = surface_layout(flat, size, False, atlas.cell)
+    across = surface_layout(flat, size, True, atlas)
+    apart = surface_layout(flat, size, False, atlas)
     assert across.edges.edges[0] > 0 and (across.charts.neighbour != NO_ISLAND).sum() > 0
     own = ratio(texture_steps(source, across.edges))
     painted = paint_texture(source, across, Params(seed=6), (60.0, 30.0, 15.0))
@@ -254,3 +254,25 @@ def test_core_object_paints_one_texture_for_each_material_and_refuses_a_missing_
     assert one_sentence_run(run).endswith(f"The UDIM tile {tmp_path / 'b.1002.png'} that the mesh's UV map uses "
                                           f"does not exist.")
     assert not (tmp_path / "far").exists()
+
+
+def test_a_cell_s_triangles_and_bleed_stay_in_its_cell():
+    """Source 0: a square over u 0.5..1 and a triangle reaching u 1.3 (its centroid at u 0.9: in the square 0..1);
+    source 1: a square over u 0.5..0.9. In the atlas (cells side by side) no texel of cell 1 shows source 0's
+    islands, and cell 1's texels beside the border, far from its own island, take no bleed from cell 0's."""
+    own = grid(0.5, 1.0, 0.25, 0.75, 2, 2)
+    reaching = SurfaceMesh(np.array([[[0.7, 0.3], [1.3, 0.5], [0.7, 0.7]]]), np.array([[[3, 0, 0], [3.6, 0.2, 0],
+                                                                                        [3, 0.4, 0]]], float))
+    other = grid(0.5, 0.9, 0.25, 0.75, 2, 2, x0=5.0)
+    mesh = SurfaceMesh(np.concatenate([own.uv, reaching.uv, other.uv]),
+                       np.concatenate([own.position, reaching.position, other.position]),
+                       np.repeat([0, 0, 1], [len(own.uv), 1, len(other.uv)]))
+    atlas = build_atlas(mesh.uv, mesh.source, [False, False])
+    size = 2 * TILE
+    layout = surface_layout(SurfaceMesh(atlas.uv, mesh.position), size, False, atlas)
+    first = set(np.unique(uv_islands(atlas.uv, atlas.cell)[mesh.source == 0]).tolist())
+    assert not set(np.unique(layout.islands[:TILE, TILE:]).tolist()) & first
+    picture = np.concatenate([np.concatenate([blocks(10), blocks(11)], axis=1)] * 2, axis=0).astype(np.float32)
+    painted = paint_texture(picture, layout, Params(seed=7), STROKES)
+    beside = painted.opacity[:TILE, TILE:TILE + 8]             # cell 1's first 8 columns: its island starts at 32
+    assert painted.opacity[:TILE, TILE - 2:TILE].max() > 0 and np.all(beside == 0)

@@ -53,14 +53,17 @@ def uv_islands(uv: np.ndarray, cell: Optional[np.ndarray] = None) -> np.ndarray:
     return numbering[component]
 
 
-def island_map(uv: np.ndarray, islands: np.ndarray, size: int) -> np.ndarray:
+def island_map(uv: np.ndarray, islands: np.ndarray, size: int, limits: Optional[np.ndarray] = None) -> np.ndarray:
     """(size, size) int32: the island (``uv_islands``) of the triangle covering each texel's centre, NO_ISLAND
     where none does. uv: (T, 3, 2) corners. A centre on an edge shared by two triangles is covered; where
-    triangles overlap in UV the later one's island is kept."""
+    triangles overlap in UV the later one's island is kept. ``limits`` (T, 2, 2) int: each triangle's texels kept
+    within the box from texel (x, y) ``limits[t, 0]`` to ``limits[t, 1]`` inclusive (its atlas cell)."""
     out = np.full((size, size), NO_ISLAND, np.int32)
     corners = np.stack([uv[..., 0] * size - 0.5, (1.0 - uv[..., 1]) * size - 0.5], axis=-1)   # texel (x, y)
     low = np.clip(np.ceil(corners.min(axis=1) - 1e-9), 0, size - 1).astype(np.int64)
     high = np.clip(np.floor(corners.max(axis=1) + 1e-9), 0, size - 1).astype(np.int64)
+    if limits is not None:
+        low, high = np.maximum(low, limits[:, 0]), np.minimum(high, limits[:, 1])
     for triangle, x, y in box_texels(low, high, RASTER_CHUNK):
         inside = covers(corners[triangle], x.astype(np.float64), y.astype(np.float64))
         out[y[inside], x[inside]] = islands[triangle[inside]]      # later triangles written last: they win
