@@ -122,6 +122,7 @@ def test_the_atlas_uv_from_the_report_puts_each_face_in_its_cell(two_tiles):
     expected = np.where(left[:, None, None], wrapped / 2 + [0.0, 0.5], wrapped / 2 + [0.5, 0.5])
     assert np.allclose(atlas_uv, expected)
     assert np.array_equal(atlas_uv, build_atlas(mesh.uv, None, [True]).uv)
+    assert np.array_equal(triangle_atlas_uv(mesh.uv, None, None, report["atlas"]), atlas_uv)
 
 
 def test_a_missing_tile_is_one_sentence_naming_its_file_and_nothing_is_written(tmp_path):

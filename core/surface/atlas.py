@@ -121,13 +121,14 @@ def placed_uv(moved: np.ndarray, cell: np.ndarray, cells: Sequence[Cell], column
     return (moved + where[:, None, :]) / np.array([columns, rows], np.float64)
 
 
-def triangle_atlas_uv(mesh_uv: np.ndarray, source: Optional[np.ndarray], tiled: Sequence[bool],
+def triangle_atlas_uv(mesh_uv: np.ndarray, source: Optional[np.ndarray], tiled: Optional[Sequence[bool]],
                       atlas: Union[Atlas, dict]) -> np.ndarray:
     """(T, 3, 2) float64: the atlas UV of triangles ``mesh_uv`` (T, 3, 2) painted from ``source`` (T,) int (None:
-    all 0), ``tiled[k]`` whether source k is tiled, in the atlas ``atlas``: an ``Atlas`` or report.json's "atlas"
-    ({"columns", "rows", "cells": [{"source", "tile", "column", "row"}, ...]}), as the Blender side reads it to
-    write the atlas UV layer its Displace modifier uses. InputError in one sentence for a triangle whose (source,
-    tile) the atlas has no cell of."""
+    all 0), ``tiled[k]`` whether source k is tiled (None: as the atlas's cells say, a source with a tile numbered
+    being tiled), in the atlas ``atlas``: an ``Atlas`` or report.json's "atlas" ({"columns", "rows", "cells":
+    [{"source", "tile", "column", "row"}, ...]}), as the Blender side reads it to write the atlas UV layer its
+    Displace modifier uses. InputError in one sentence for a triangle whose (source, tile) the atlas has no cell
+    of."""
     if isinstance(atlas, Atlas):
         cells, columns, rows = atlas.cells, atlas.columns, atlas.rows
     else:
@@ -135,6 +136,10 @@ def triangle_atlas_uv(mesh_uv: np.ndarray, source: Optional[np.ndarray], tiled: 
                            int(c["row"])) for c in atlas["cells"])
         columns, rows = int(atlas["columns"]), int(atlas["rows"])
     source = np.zeros(len(mesh_uv), np.int64) if source is None else np.asarray(source, np.int64)
+    if tiled is None:
+        tiled = [False] * (int(max([c.source for c in cells] + [int(source.max(initial=0))])) + 1)
+        for c in cells:
+            tiled[c.source] = tiled[c.source] or c.tile is not None
     moved, shift = wrapped(mesh_uv)
     tile = triangle_tiles(shift, source, tiled)
     index: Dict[Tuple[int, int], int] = {(c.source, 0 if c.tile is None else c.tile): i for i, c in enumerate(cells)}
