@@ -374,51 +374,111 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     """Paint the texture ``texture_path`` of ``mesh`` in its UV space (ALGORITHM §10) and write every output into
     ``output_dir``, as ``paint_file`` writes a still's; return the report.
 
+    texture_path: a path, or a list of paths whose k-th is the source of the triangles whose source is k
+    (``SurfaceMesh.source``). A path holding ``<UDIM>`` is a tiled image (``surface.atlas``): each tile the mesh
+    uses is read from the path with its number there, and a missing one is refused in one sentence naming it. A
+    plain source repeats beyond the UV square 0..1. Each (source, tile) used is a cell of the painted texture, the
+    atlas (``surface.atlas``), painted at once with strokes of one size on the surface.
     mesh: a ``core.surface.mesh.SurfaceMesh`` (Blender's loop triangles) or the path of a Wavefront OBJ file.
-    texture_size: the painted texture's side in texels (default: the source's longer side, within
-    ``TEXTURE_SIZE_RANGE``); the source is resampled to that square. stroke_mm: the stroke widths in mm on the surface (default:
-    ``texture.default_stroke_mm``). The maps are the texture's; report.json adds "islands" (each island's texel
-    density and stroke widths in mm), "stroke_mm" and "bleed_texels". keep_source: a copy of the source is
+    texture_size: each cell's side in texels (default: the sources' longest side, within
+    ``TEXTURE_SIZE_RANGE``); each source is resampled to that square. The atlas of G x G cells is G times as wide,
+    at most ``TEXTURE_SIZE_RANGE``'s largest (the default shrinks to fit, a size given is refused in one sentence).
+    stroke_mm: the stroke widths in mm on the surface (default:
+    ``texture.default_stroke_mm``). The maps are the atlas's (one cell: the texture's); report.json adds "islands"
+    (each island's texel density and stroke widths in mm), "stroke_mm", "bleed_texels" and "atlas"
+    (``surface.atlas.atlas_figures``: the grid, each cell's source, tile, place and map files). With several cells
+    each cell's maps are written too, color.s{k}.exr, height.s{k}.exr, opacity.s{k}.exr (and normal.s{k}.exr with
+    ``normal_map``) for a plain source k, color.s{k}.{tile}.exr and the like for a tiled one, so each source's
+    maps fit its own UV map. keep_source: a copy of the source is
     committed with the maps as ``SOURCE_COPY`` plus its suffix, and the report's "input" names that copy (for a
-    source that lives only as long as the caller's temporary folder). Checks, locking, all-or-nothing and
+    source that lives only as long as the caller's temporary folder); with several cells, and whenever
+    ``texture_path`` is a list of several, the composed atlas source is written as source.png and named instead.
+    Checks, locking, all-or-nothing and
     one-sentence failures as ``paint_file`` (``committed_painting``). The texture is painted with the paper's
     method and layout, whose strokes are laid on each island's texels alone: any other is refused in one sentence
     before any work (``Params.validate_object``), and report.json names the "method" painted.
-    across_seams: strokes run on across the UV seams (``surface.apron``); off by default, since an island whose
+    across_seams: strokes run on across the UV seams (``surface.apron``), the borders between cells included
+    where the surface runs on; off by default, since an island whose
     strokes are wide against it is painted on a canvas up to twice as wide again: a 16 x 8 UV sphere at 1024
     texels and its default strokes of 0.75 m took over three times as long as its islands painted apart.
     """
-    from .files.export import NORMAL_FILE, PAINTING_FILES, write_painting
+    from .files.export import NORMAL_FILE, PAINTING_FILES, cell_map_names, write_cell_maps, write_painting
+    from .files.writing import write_png
+    from .surface.atlas import atlas_figures, build_atlas, cell_box, cell_file_suffix, composed, is_tiled, tile_path
     from .surface.mesh import SurfaceMesh, check_mesh, read_obj
     from .surface.texture import paint_texture, square_texture, surface_layout
 
     params.validate_object()
-    width, height, _ = reading.probe(texture_path, params.max_megapixels)
-    budget.check_bomb(texture_path, width, height)
+    listed = isinstance(texture_path, (list, tuple))
+    paths = list(texture_path) if listed else [texture_path]
+    if not paths:
+        raise ParameterError("No texture was given to paint the mesh from.")
     low, high = TEXTURE_SIZE_RANGE
-    size = min(max(width, height, low), high) if texture_size is None else texture_size
-    if not (isinstance(size, int) and not isinstance(size, bool) and low <= size <= high):
-        raise ParameterError(f"The texture size must be a whole number of texels from {low} to {high}, got {size}.")
+    if texture_size is not None and not (isinstance(texture_size, int) and not isinstance(texture_size, bool)
+                                         and low <= texture_size <= high):
+        raise ParameterError(f"The texture size must be a whole number of texels from {low} to {high}, "
+                             f"got {texture_size}.")
     if stroke_mm is not None and not (len(stroke_mm) and all(0 < float(w) < 1e6 for w in stroke_mm)):
         raise ParameterError(f"Stroke widths must be positive millimetres, got {list(stroke_mm)}.")
     surface = (check_mesh(mesh, "given") if isinstance(mesh, SurfaceMesh) else read_obj(mesh))
-    budget.check(texture_path, size, size, params.layers, max_memory=max_memory)
-    budget.check_space(output_dir, texture_path, size, size, normal_map)
-    copy = SOURCE_COPY + Path(texture_path).suffix.lower() if keep_source else None
+    if surface.source is not None and int(surface.source.max()) >= len(paths):
+        raise InputError(f"A face of the mesh is painted from source {int(surface.source.max())}, but only "
+                         f"{len(paths)} texture{'s were' if len(paths) > 1 else ' was'} given.")
+    tiled = [is_tiled(path) for path in paths]
+    atlas = build_atlas(surface.uv, surface.source, tiled)
+    files = [tile_path(paths[cell.source], cell.tile) for cell in atlas.cells]
+    for cell, file in zip(atlas.cells, files, strict=True):
+        if cell.tile is not None and not Path(file).is_file():
+            raise InputError(f"The UDIM tile {file} that the mesh's UV map uses does not exist.")
+    sides = []
+    for file in files:
+        width, height, _ = reading.probe(file, params.max_megapixels)
+        budget.check_bomb(file, width, height)
+        sides.append(max(width, height))
+    side = atlas.columns
+    if texture_size is None:
+        size = min(max(max(sides), low), high // side)
+    elif texture_size * side > high:
+        raise ParameterError(f"The atlas of {side} x {side} cells of {texture_size} texels would be "
+                             f"{texture_size * side} texels wide, above the largest texture of {high}: give a "
+                             f"texture size of at most {high // side}.")
+    else:
+        size = texture_size
+    full = size * side
+    several = len(atlas.cells) > 1
+    budget.check(files[0], full, full, params.layers, max_memory=max_memory)
+    budget.check_space(output_dir, files[0], full, 2 * full if several else full, normal_map)
+    if several:
+        copy = SOURCE_COPY + ".png" if keep_source or listed else None
+    else:
+        copy = SOURCE_COPY + Path(files[0]).suffix.lower() if keep_source else None
+    cell_names = [cell_map_names(cell_file_suffix(cell), normal_map) if several else
+                  dict({"color": "color.exr", "height": "height.exr", "opacity": "opacity.exr"},
+                       **({"normal": NORMAL_FILE} if normal_map else {})) for cell in atlas.cells]
+    extra = [name for names in cell_names for name in names.values()] if several else []
+    texture = {}
 
     def painted():
-        image = reading.read_image(texture_path, params.max_megapixels, params.canvas_colour)
-        return paint_texture(square_texture(image, size), surface_layout(surface, size, across_seams), params, stroke_mm,
-                             progress, cancel)
+        pictures = [square_texture(reading.read_image(file, params.max_megapixels, params.canvas_colour), size)
+                    for file in files]
+        texture["atlas"] = composed(atlas, pictures, size, params.canvas_colour) if several else pictures[0]
+        layout = surface_layout(SurfaceMesh(atlas.uv, surface.position), full, across_seams, atlas)
+        return paint_texture(texture["atlas"], layout, params, stroke_mm, progress, cancel)
 
     def written(staging: Path, painting) -> dict:
-        if copy:
-            copy_file(texture_path, staging / copy)
-        source = Path(output_dir).resolve() / copy if copy else texture_path
-        return write_painting(staging, painting, str(source), normal_map)
+        if copy and several:
+            write_png(staging / copy, texture["atlas"])
+        elif copy:
+            copy_file(files[0], staging / copy)
+        if several:
+            write_cell_maps(staging, painting, [(cell_file_suffix(cell), *cell_box(atlas, i, size))
+                                                for i, cell in enumerate(atlas.cells)], normal_map)
+        painting.statistics["atlas"] = atlas_figures(atlas, paths, size, cell_names)
+        source = Path(output_dir).resolve() / copy if copy else (paths[0] if several else files[0])
+        return write_painting(staging, painting, str(source), normal_map, extra_files=extra)
 
-    return committed_painting(output_dir, texture_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ())
-                              + ((copy,) if copy else ()), painted, written)
+    return committed_painting(output_dir, files[0], PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ())
+                              + tuple(extra) + ((copy,) if copy else ()), painted, written)
 
 
 def copy_file(source, target: Path) -> None:

@@ -329,7 +329,10 @@ def _add_object_parser(sub) -> None:
                     "positions in metres), island by island in its UV space: each UV island from its own texels, "
                     "strokes as wide in millimetres on every island. Writes the maps a still has, in UV space, and "
                     "report.json with each island's texel density and stroke widths.")
-    p.add_argument("texture", metavar="TEXTURE", help="the texture to paint (PNG, JPEG, TIFF, EXR, ...)")
+    p.add_argument("texture", metavar="TEXTURE", nargs="+",
+                   help="the texture to paint (PNG, JPEG, TIFF, EXR, ...); several for a mesh of several materials, "
+                        "the k-th for the OBJ's k-th material in the order its usemtl lines first name them; a "
+                        "path holding <UDIM> is a tiled image, one file per UDIM tile (color.<UDIM>.png)")
     p.add_argument("--mesh", required=True, metavar="MESH.obj", help="the mesh whose UV map the texture follows")
     p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
                    help="folder for the outputs (created if missing)")
@@ -351,7 +354,7 @@ def run_object(args: argparse.Namespace, progress) -> None:
     from .heap import reused_heap
 
     with reused_heap():
-        paint_object(args.texture, args.mesh, args.output, params_from_args(args), args.texture_size,
+        paint_object(args.texture[0] if len(args.texture) == 1 else args.texture, args.mesh, args.output, params_from_args(args), args.texture_size,
                      args.stroke_mm, progress=progress, max_memory=max_memory(args), normal_map=args.normal_map)
 
 

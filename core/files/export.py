@@ -150,7 +150,7 @@ def map_tasks(folder: Path, suffix: str, colour: np.ndarray, height: np.ndarray,
 
 
 def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False, pages: int = 1,
-                   source_sha256: Optional[str] = None) -> dict:
+                   source_sha256: Optional[str] = None, extra_files: Sequence[str] = ()) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
     The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
@@ -172,6 +172,8 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
                  (lighting.normal_map at relief DEFAULT_RELIEF px per height unit; OpenGL
                  convention X right, Y up, Z out), stored ENCODED as n * 0.5 + 0.5 in [0, 1]:
                  Blender's Normal Map node expects encoded colour data, so load it as Non-Color data
+
+    ``extra_files``: names of files the caller wrote into ``folder`` before, listed in the report's "files" too.
     """
     folder = Path(folder)
     t0 = time.perf_counter()
@@ -191,6 +193,8 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     if normal_map:
         write_normal_map(folder / NORMAL_FILE, height, attributes, files["height.exr"]["sha256"])
         files[NORMAL_FILE] = file_digest(folder / NORMAL_FILE)
+    if extra_files:
+        files.update(file_digests(folder, list(extra_files)))
     report = dict(painting.statistics)
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
     report.update({"input": str(source), "input_page": 0, "input_pages": int(pages)})
@@ -200,3 +204,44 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
                    "files": files})
     writing.write_json(folder / REPORT_FILE, report)
     return report
+
+
+CELL_MAPS = ("color", "height", "opacity")
+"""The maps written for each cell of an atlas of several cells (``write_cell_maps``), with "normal" when asked."""
+
+
+def cell_map_names(suffix: str, normal_map: bool) -> dict:
+    """{map: file name} of one atlas cell's maps: "color<suffix>.exr" and the like (``CELL_MAPS``, and "normal"
+    with ``normal_map``); ``suffix`` as ``surface.atlas.cell_file_suffix`` gives it (".s0", ".s1.1002")."""
+    return {name: f"{name}{suffix}.exr" for name in CELL_MAPS + (("normal",) if normal_map else ())}
+
+
+def write_cell_maps(folder: Path, painting: Painting, cells: Sequence[tuple], normal_map: bool = False) -> list:
+    """Write each atlas cell's region of the painting's maps as maps of their own into ``folder``, so a cell's
+    maps fit its source's own UV square; returns the names written. cells: (suffix, rows, cols) each, the rows and
+    columns slices of the cell in the painting's (H, W) maps. color is scene-linear RGB, height and opacity Y,
+    normal (with ``normal_map``) as ``write_painting``'s normal.exr, made from the cell's height alone; all half
+    floats with the painting's attributes."""
+    folder = Path(folder)
+    attributes = map_attributes(painting.params)
+    tasks, names, normals = [], [], []
+    for suffix, rows, cols in cells:
+        named = cell_map_names(suffix, normal_map)
+        colour = painting.colour[rows, cols]
+        tasks += [lambda n=named["color"], c=colour: writing.write_exr(
+                      folder / n, writing.RowBlocks(c.shape, lambda y0, y1, c=c: srgb_to_linear(c[y0:y1])),
+                      half=True, attributes=attributes),
+                  lambda n=named["height"], h=painting.height[rows, cols]: writing.write_exr(
+                      folder / n, np.ascontiguousarray(h), channels=("Y",), half=True, attributes=attributes),
+                  lambda n=named["opacity"], o=painting.opacity[rows, cols]: writing.write_exr(
+                      folder / n, np.ascontiguousarray(o), channels=("Y",), half=True, attributes=attributes)]
+        names += [named[name] for name in CELL_MAPS]
+        if normal_map:
+            normals.append((named["normal"], named["height"], painting.height[rows, cols]))
+    with quiet.captured():
+        run_all(tasks)
+    for name, height_name, height in normals:
+        write_normal_map(folder / name, np.ascontiguousarray(height), attributes,
+                         file_digest(folder / height_name)["sha256"])
+        names.append(name)
+    return names

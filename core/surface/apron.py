@@ -111,7 +111,8 @@ def unfolded_apex(edge_xy: np.ndarray, apex_side_xy: np.ndarray, edge_3d: np.nda
 def seam_charts(uv: np.ndarray, position: np.ndarray, islands: np.ndarray, size: int) -> SeamCharts:
     """The border edges of the islands ``islands`` (T,) of the triangles ``uv`` (T, 3, 2) and ``position`` (T, 3, 3)
     m in a ``size``-texel texture, and the chart map across each seam (module docstring). A border edge is a UV
-    edge of one triangle alone; it is a seam when another triangle shares its ends in 3-D. Of a seam's two sides,
+    edge of one triangle of its island alone (an edge two islands share in UV, as at the border of two atlas
+    cells, is a border of both); it is a seam when another triangle shares its ends in 3-D. Of a seam's two sides,
     one leads: its island's strokes are anchored beyond it and carried over the other side. Islands are painted
     in their order, so between two islands the later leads and lays its strokes over the earlier's paint; within
     one island (both sides painted at once) the side whose triangle comes first leads."""
@@ -121,6 +122,7 @@ def seam_charts(uv: np.ndarray, position: np.ndarray, islands: np.ndarray, size:
     triangle, start = np.repeat(np.arange(count), 3), np.tile(np.arange(3), count)
     end = (start + 1) % 3
     pair = np.sort(np.stack([point[triangle, start], point[triangle, end]], axis=1), axis=1)
+    pair = np.concatenate([pair, islands[triangle][:, None].astype(pair.dtype)], axis=1)    # none across islands
     _, group, uses = np.unique(pair, axis=0, return_inverse=True, return_counts=True)
     border = np.flatnonzero(uses[group.reshape(-1)] == 1)
     slot = np.full(3 * count, -1, np.int64)                             # border edge of (triangle, corner) 3 t + c

@@ -12,7 +12,7 @@ row 0 is the top of the image, as the painter's pictures are stored.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import NamedTuple, Optional
 
 import numpy as np
 from scipy import ndimage
@@ -26,15 +26,18 @@ RASTER_CHUNK = 1 << 22
 """Texels tested at once while triangles are rasterised: bounds the memory of ``island_map``."""
 
 
-def uv_islands(uv: np.ndarray) -> np.ndarray:
+def uv_islands(uv: np.ndarray, cell: Optional[np.ndarray] = None) -> np.ndarray:
     """(T,) int32 in 1 .. K: the island of each of T triangles, ``uv`` (T, 3, 2) their corners' UV coordinates.
 
     Islands are the connected components of triangles sharing a UV edge (the same two UV points, in either order),
-    numbered 1 .. K in the order of their first triangle."""
+    numbered 1 .. K in the order of their first triangle. With ``cell`` (T,) int (the atlas cell of each triangle,
+    ``atlas.Atlas.cell``), triangles of two cells share no edge, so an island never spans cells."""
     count = len(uv)
     if count == 0:
         return np.zeros(0, np.int32)
     corners = uv.reshape(-1, 2)
+    if cell is not None:
+        corners = np.concatenate([corners, np.repeat(np.asarray(cell, np.float64), 3)[:, None]], axis=1)
     _, point = np.unique(corners, axis=0, return_inverse=True)
     point = point.reshape(count, 3)
     edges = np.concatenate([point[:, [0, 1]], point[:, [1, 2]], point[:, [2, 0]]])
@@ -50,14 +53,17 @@ def uv_islands(uv: np.ndarray) -> np.ndarray:
     return numbering[component]
 
 
-def island_map(uv: np.ndarray, islands: np.ndarray, size: int) -> np.ndarray:
+def island_map(uv: np.ndarray, islands: np.ndarray, size: int, limits: Optional[np.ndarray] = None) -> np.ndarray:
     """(size, size) int32: the island (``uv_islands``) of the triangle covering each texel's centre, NO_ISLAND
     where none does. uv: (T, 3, 2) corners. A centre on an edge shared by two triangles is covered; where
-    triangles overlap in UV the later one's island is kept."""
+    triangles overlap in UV the later one's island is kept. ``limits`` (T, 2, 2) int: each triangle's texels kept
+    within the box from texel (x, y) ``limits[t, 0]`` to ``limits[t, 1]`` inclusive (its atlas cell)."""
     out = np.full((size, size), NO_ISLAND, np.int32)
     corners = np.stack([uv[..., 0] * size - 0.5, (1.0 - uv[..., 1]) * size - 0.5], axis=-1)   # texel (x, y)
     low = np.clip(np.ceil(corners.min(axis=1) - 1e-9), 0, size - 1).astype(np.int64)
     high = np.clip(np.floor(corners.max(axis=1) + 1e-9), 0, size - 1).astype(np.int64)
+    if limits is not None:
+        low, high = np.maximum(low, limits[:, 0]), np.minimum(high, limits[:, 1])
     for triangle, x, y in box_texels(low, high, RASTER_CHUNK):
         inside = covers(corners[triangle], x.astype(np.float64), y.astype(np.float64))
         out[y[inside], x[inside]] = islands[triangle[inside]]      # later triangles written last: they win

@@ -10,7 +10,7 @@ triangles that stay inside it (``polygons``: a fan where it is convex).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, NamedTuple
+from typing import List, NamedTuple, Optional
 
 import numpy as np
 
@@ -23,11 +23,12 @@ class SurfaceMesh(NamedTuple):
 
     uv: np.ndarray              # (T, 3, 2) float64, the corners' UV coordinates (u right, v up)
     position: np.ndarray        # (T, 3, 3) float64 m, the corners' positions
+    source: Optional[np.ndarray] = None     # (T,) int64 >= 0: the source image each is painted from; None: all 0
 
 
 def check_mesh(mesh: SurfaceMesh, name: str) -> SurfaceMesh:
     """``mesh`` as float64 arrays; InputError (one sentence naming ``name``) when its arrays do not fit together,
-    hold no triangle or a value that is not finite."""
+    hold no triangle or a value that is not finite, or its sources are not whole numbers from 0, one a triangle."""
     uv, position = np.asarray(mesh.uv, np.float64), np.asarray(mesh.position, np.float64)
     if uv.ndim != 3 or uv.shape[1:] != (3, 2) or position.shape != uv.shape[:1] + (3, 3):
         raise InputError(f"The mesh {name} must give three UV points and three positions for each triangle, "
@@ -36,13 +37,22 @@ def check_mesh(mesh: SurfaceMesh, name: str) -> SurfaceMesh:
         raise InputError(f"The mesh {name} has no faces to paint.")
     if not (np.isfinite(uv).all() and np.isfinite(position).all()):
         raise InputError(f"The mesh {name} holds a UV coordinate or a position that is not a finite number.")
-    return SurfaceMesh(uv, position)
+    source = None
+    if mesh.source is not None:
+        given = np.asarray(mesh.source)
+        if (given.shape != uv.shape[:1] or not (np.issubdtype(given.dtype, np.integer) or given.dtype == bool)
+                or (given < 0).any()):
+            raise InputError(f"The mesh {name} must give each of its {len(uv)} triangles a source image as a whole "
+                             f"number from 0, got an array of shape {given.shape} and type {given.dtype}.")
+        source = given.astype(np.int64)
+    return SurfaceMesh(uv, position, source)
 
 
 def read_obj(path) -> SurfaceMesh:
     """The triangles of the Wavefront OBJ file ``path`` (module docstring); InputError (one sentence naming the
     file and, where it is one, the line) when it cannot be read, a line is not understood, an index points
-    nowhere, or a face has no texture coordinates."""
+    nowhere, or a face has no texture coordinates. Each triangle's source is its face's material: the k-th
+    material named by ``usemtl`` (in the order first named) is source k, a face before any ``usemtl`` source 0."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8", errors="replace")
@@ -51,6 +61,9 @@ def read_obj(path) -> SurfaceMesh:
     positions: List[List[float]] = []
     coordinates: List[List[float]] = []
     faces: List[List[tuple]] = []
+    materials: dict = {}
+    material: List[int] = []
+    current = 0
     for number, line in enumerate(text.splitlines(), 1):
         words = line.split("#", 1)[0].split()
         if not words:
@@ -64,6 +77,9 @@ def read_obj(path) -> SurfaceMesh:
                 faces.append([corner(word, len(positions), len(coordinates)) for word in words[1:]])
                 if len(faces[-1]) < 3:
                     raise ValueError("a face needs three corners")
+                material.append(current)
+            elif words[0] == "usemtl":
+                current = materials.setdefault(" ".join(words[1:]), len(materials))
         except ValueError as exc:
             raise InputError(f"The mesh {path} cannot be read at line {number}: {exc}.") from None
     if not faces:
@@ -71,9 +87,12 @@ def read_obj(path) -> SurfaceMesh:
     if any(uv < 0 for face in faces for _, uv in face):
         raise InputError(f"The mesh {path} has faces without texture coordinates: unwrap it (a UV map) first.")
     points, uvs = np.array(positions, np.float64), np.array(coordinates, np.float64)
-    triangles = np.array([(face[a], face[b], face[c]) for face in faces
-                          for a, b, c in polygon_triangles(points[[p for p, _ in face]])])
-    return check_mesh(SurfaceMesh(uvs[triangles[..., 1]], points[triangles[..., 0]]), str(path))
+    cut = [polygon_triangles(points[[p for p, _ in face]]) for face in faces]
+    triangles = np.array([(face[a], face[b], face[c]) for face, parts in zip(faces, cut, strict=True)
+                          for a, b, c in parts])
+    source = np.repeat(np.array(material, np.int64), [len(parts) for parts in cut])
+    return check_mesh(SurfaceMesh(uvs[triangles[..., 1]], points[triangles[..., 0]],
+                                  source if materials else None), str(path))
 
 
 def numbers(words: List[str], count: int, need: str) -> List[float]:

@@ -50,11 +50,13 @@ def shared_edges(position: np.ndarray) -> tuple:
     return triangle[pairs], first[pairs], second[pairs]
 
 
-def edge_samples(uv: np.ndarray, position: np.ndarray, offset_m: float) -> EdgeSamples:
+def edge_samples(uv: np.ndarray, position: np.ndarray, offset_m: float,
+                 islands: Optional[np.ndarray] = None) -> EdgeSamples:
     """The sample pairs across the shared edges (``shared_edges``) of the triangles ``uv`` (T, 3, 2) and
     ``position`` (T, 3, 3) m: one every ``offset_m`` along the stretch of an edge where both points stay inside
     their triangles (at least one, centred), each point ``offset_m`` from the edge, straight across it in its
-    triangle's plane, so the two face each other. An edge with no such stretch, or of a triangle of no UV area,
+    triangle's plane, so the two face each other. An edge is a seam where its ends' UVs differ in the two
+    triangles or, given their ``islands`` (T,), where the two lie in two islands (as across atlas cells). An edge with no such stretch, or of a triangle of no UV area,
     is left out."""
     triangles, first, second = shared_edges(position)
     opposite = 3 - first - second
@@ -73,6 +75,8 @@ def edge_samples(uv: np.ndarray, position: np.ndarray, offset_m: float) -> EdgeS
     uv_area = np.abs(along[..., 0] * across[..., 1] - along[..., 1] * across[..., 0])
     kept = (length2 > 0) & (high > low) & np.all((height > 0) & (uv_area > 0), axis=1)
     seam = np.any(uv_start[:, 0] != uv_start[:, 1], axis=1) | np.any(uv_end[:, 0] != uv_end[:, 1], axis=1)
+    if islands is not None:
+        seam |= islands[triangles[:, 0]] != islands[triangles[:, 1]]
     edge_index = np.flatnonzero(kept)
     stretch = high[edge_index] - low[edge_index]
     per_edge = np.maximum(1, np.rint(stretch * np.sqrt(length2[edge_index]) / offset_m).astype(np.int64))

@@ -51,6 +51,7 @@ from .apron import (
     seam_charts,
     widest_stretch,
 )
+from .atlas import Atlas
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
@@ -63,18 +64,30 @@ class SurfaceLayout(NamedTuple):
     density: TexelDensity       # the islands' metres per UV unit (``islands.texel_density``)
     edges: Optional[EdgeSamples] = None     # where the texture's steps across seams and inner edges are read
     charts: Optional[SeamCharts] = None     # the chart maps across the seams (``apron.seam_charts``); None: apart
+    cell_texels: Optional[int] = None       # the side of an atlas cell (``atlas``) in texels; None: one cell
 
 
-def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True) -> SurfaceLayout:
+def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True,
+                   atlas: Optional[Atlas] = None) -> SurfaceLayout:
     """The layout of a ``size`` x ``size`` texture on ``mesh``: its islands rasterised, their densities, the
     samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them, and, with
-    ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart)."""
-    islands = uv_islands(mesh.uv)
+    ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart).
+    With an ``atlas`` of several cells (whose UV ``mesh`` then holds, ``size`` a whole number of cells): islands
+    end where cells change, the edges there are seams, and each triangle's texels stay within its cell."""
+    several = atlas is not None and len(atlas.cells) > 1
+    cell = atlas.cell if several else None
+    islands = uv_islands(mesh.uv, cell)
     density = texel_density(mesh.uv, mesh.position, islands)
     offset_m = OFFSET_TEXELS * float(np.nanmax(density.island, initial=0.0)) / size
     charts = seam_charts(mesh.uv, mesh.position, islands, size) if across_seams else None
-    return SurfaceLayout(island_map(mesh.uv, islands, size), density, edge_samples(mesh.uv, mesh.position, offset_m),
-                         charts)
+    cell_texels = size // atlas.columns if several else None
+    limits = None
+    if several:
+        place = np.array([[c.column, c.row] for c in atlas.cells], np.int64)[cell] * cell_texels
+        limits = np.stack([place, place + cell_texels - 1], axis=1)
+    return SurfaceLayout(island_map(mesh.uv, islands, size, limits), density,
+                         edge_samples(mesh.uv, mesh.position, offset_m, None if cell is None else islands), charts,
+                         cell_texels)
 
 
 def square_texture(image: np.ndarray, size: int) -> np.ndarray:
@@ -333,13 +346,27 @@ def paint_texture(texture: np.ndarray, layout: SurfaceLayout, params: Params,
     colour, height, opacity, coverage = (np.ascontiguousarray(maps[..., :3]), maps[..., 3].copy(),
                                          maps[..., 4].copy(), maps[..., 5].copy())
     reach = bleed_texels(size)
-    colour, height, opacity, coverage, orientation = (bled(values, layout.islands, reach) for values in
+    colour, height, opacity, coverage, orientation = (cell_bled(values, layout, reach) for values in
                                                        (colour, height, opacity, coverage, orientation))
     np.clip(colour, 0.0, 1.0, out=colour)
     strokes = [stroke for island in present for stroke in painted[island].strokes]
     return Painting(colour, height, opacity, coverage, orientation, strokes, None, params,
                     texture_statistics(texture, colour, layout, painted, stroke_mm, params,
                                        time.perf_counter() - clock))
+
+
+def cell_bled(values: np.ndarray, layout: SurfaceLayout, texels: float) -> np.ndarray:
+    """``values`` (N, N, ...) bled ``texels`` past the islands of ``layout`` (``islands.bled``), within each atlas
+    cell apart (``layout.cell_texels``), so no cell takes paint from another's islands."""
+    side = layout.cell_texels
+    if side is None or side >= layout.islands.shape[0]:
+        return bled(values, layout.islands, texels)
+    out = values.copy()
+    for top in range(0, layout.islands.shape[0], side):
+        for left in range(0, layout.islands.shape[1], side):
+            block = (slice(top, top + side), slice(left, left + side))
+            out[block] = bled(values[block], layout.islands[block], texels)
+    return out
 
 
 def texture_statistics(texture: np.ndarray, colour: np.ndarray, layout: SurfaceLayout,
