@@ -179,8 +179,9 @@ def turntable(obj, args):
     return scene
 
 
-def paper_material(maps):
-    """A material showing ``maps``/lit_paper.png as emission (the paper's lighting, which knows no surface)."""
+def paper_material(maps, uv_map):
+    """A material showing ``maps``/lit_paper.png as emission (the paper's lighting, which knows no surface)
+    through the UV map ``uv_map`` (the atlas's for a texture set of several sources or tiles)."""
     import bpy
 
     material = bpy.data.materials.new("Paint Relief Paper Lighting")
@@ -191,8 +192,11 @@ def paper_material(maps):
         tree.nodes.remove(node)
     texture = tree.nodes.new("ShaderNodeTexImage")
     texture.image = bpy.data.images.load(str(maps / "lit_paper.png"))
+    coordinates = tree.nodes.new("ShaderNodeUVMap")
+    coordinates.uv_map = uv_map
     emission = tree.nodes.new("ShaderNodeEmission")
     output = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(coordinates.outputs["UV"], texture.inputs["Vector"])
     tree.links.new(texture.outputs["Color"], emission.inputs["Color"])
     tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
     return material
@@ -354,6 +358,7 @@ def main(argv):
             package.register()
         core = importlib.import_module(package.__name__ + ".core")
         object_material = importlib.import_module(package.__name__ + ".addon.objects.object_material")
+        surface = importlib.import_module(package.__name__ + ".addon.objects.surface")
         choices = importlib.import_module(package.__name__ + ".addon.values").TEXTURE_SIZE_CHOICES
         if args.texture_size not in choices:
             raise Failure(f"The texture size must be one of {', '.join(map(str, choices))} texels, got "
@@ -370,7 +375,8 @@ def main(argv):
             edge_views(scene, np.concatenate([seams, inner]))))}
         object_material.show_painting(obj, False)
         films["original"] = render_film(scene, out / "renders" / "original")
-        paper = paper_material(maps)
+        atlas = obj.data.uv_layers.get(object_material.ATLAS_UV_MAP)
+        paper = paper_material(maps, (atlas or obj.data.uv_layers[surface.uv_map_name(obj)]).name)
         for slot in obj.material_slots:
             slot.material = paper
         films["paper"] = render_film(scene, out / "renders" / "paper")

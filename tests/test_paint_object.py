@@ -130,6 +130,26 @@ def test_the_original_material_and_the_painting_survive_save_and_reopen_and_a_di
     assert kept["legacy_original"] == ["Photo"] and kept["legacy_adopted"] == [False, "Photo", True]
 
 
+def test_each_material_slot_and_udim_tile_is_painted_from_its_own_source_and_worn_by_its_slot(found):
+    both = _step(found, "texture_set_of_two_materials_and_udim_tiles")
+    ball, cube = both["set_ball"], both["set_cube"]
+    assert ball["result"] == ["FINISHED"], ball["error"]
+    assert {"color.s0.exr", "color.s1.exr", "height.s1.exr", "opacity.s0.exr"} <= set(ball["files"])
+    assert ball["slots"] == ["Paint Relief Sphere", "Paint Relief Sphere 2"] and ball["colour_sources"] == ["FILE"]
+    assert min(ball["r"].values()) >= 0.7, ball["r"]                  # each slot from its own photograph
+    assert cube["result"] == ["FINISHED"], cube["error"]
+    assert {"color.s0.1001.exr", "color.s0.1002.exr", "height.s0.1002.exr"} <= set(cube["files"])
+    assert cube["slots"] == ["Paint Relief Cube"] and cube["colour_sources"] == ["TILED"]
+    assert cube["r"]["0"] >= 0.7, cube["r"]                            # both tiles, each from its own
+    for found in (ball, cube):                                         # the relief reads the atlas
+        assert found["uv_maps"] == ["UVMap", "Paint Relief Atlas"] and found["render_uv"] == "UVMap"
+        assert found["displace_uv"] == "Paint Relief Atlas" and found["back"] == ["FINISHED"]
+    assert ball["original"] == ["Lower", "Upper"] and cube["original"] == ["Tiles"]
+    assert both["reopened"] == {"Sphere": ["Paint Relief Sphere", "Paint Relief Sphere 2"],
+                                "Cube": ["Paint Relief Cube"]}
+    assert {"Lower", "Upper", "Tiles"} <= set(both["materials"])      # the originals kept through save
+
+
 def test_relief_levels_give_about_a_vertex_for_every_four_by_four_texels():
     assert values.relief_levels(1024, 1024) == 3               # 1024 x 4^3 = 65536 faces for 256^2 texels
     assert values.relief_levels(6, 2048) == 6                  # a cube: at most 6 levels

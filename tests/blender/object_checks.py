@@ -38,6 +38,19 @@ def run(op, **kwargs):
         return None, str(error)
 
 
+def photo_material(name, photo):
+    """A material whose Principled BSDF's Base Color reads the picture ``photo``."""
+    material = bpy.data.materials.new(name)
+    if material.node_tree is None:
+        material.use_nodes = True
+    nodes = material.node_tree.nodes
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.load(photo)
+    bsdf = next(node for node in nodes if node.bl_idname == "ShaderNodeBsdfPrincipled")
+    material.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+    return material
+
+
 def textured_sphere():
     """A UV sphere of radius 0.5 m whose Principled BSDF's Base Color reads a photograph."""
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=32, ring_count=16)
@@ -433,6 +446,122 @@ def saved_and_reopened():
                                object_material.original_materials(sphere)[0].name,
                                isinstance(sphere[object_material.PAINTED_KEY], bpy.types.Material)]
     object_material.show_painting(sphere, True)
+    return found
+
+
+def surface_points(obj, per_triangle=20):
+    """(slot (P,) int, uv (P, 2)): random points (seed 0) inside every loop triangle of ``obj``'s mesh."""
+    import numpy as np
+
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    loops = np.empty(len(mesh.loop_triangles) * 3, np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    slots = np.empty(len(mesh.loop_triangles), np.int32)
+    mesh.loop_triangles.foreach_get("material_index", slots)
+    uv = np.empty(len(mesh.loops) * 2, np.float32)
+    mesh.uv_layers["UVMap"].data.foreach_get("uv", uv)
+    corners = uv.reshape(-1, 2)[loops].reshape(-1, 3, 2).astype(np.float64)
+    a, b = np.random.default_rng(0).random((2, len(corners), per_triangle))
+    flip = a + b > 1
+    a[flip], b[flip] = 1 - a[flip], 1 - b[flip]
+    points = (corners[:, None, 0] * (1 - a - b)[..., None] + corners[:, None, 1] * a[..., None]
+              + corners[:, None, 2] * b[..., None])
+    return np.repeat(slots, per_triangle), points.reshape(-1, 2)
+
+
+def source_agreement(obj, folder):
+    """{source: Pearson r}: the luminance of the painted cell maps of each source against its own source picture
+    (and, as "other", against the next source's) at random points of its faces, each through the original UV map
+    (a tiled source's tile 1001 + floor(u) + 10 floor(v))."""
+    import numpy as np
+    from paint_relief.core.files.reading import read_image
+
+    atlas = json.load(open(os.path.join(folder, "report.json")))["atlas"]
+    slots, uv = surface_points(obj)
+    whole = np.floor(uv)
+    tile = (1001 + whole[:, 0] + 10 * whole[:, 1]).astype(int)
+    inner = uv - whole
+
+    def lookup(paths_by_cell, source, picked):
+        values = np.full(len(picked), np.nan)
+        for cell in atlas["cells"]:
+            if cell["source"] != source:
+                continue
+            at = picked & ((tile == cell["tile"]) if cell["tile"] is not None else True)
+            image = read_image(paths_by_cell(cell)).mean(axis=2)
+            h, w = image.shape
+            rows = np.clip(((1 - inner[at, 1]) * h).astype(int), 0, h - 1)
+            values[at] = image[rows, np.clip((inner[at, 0] * w).astype(int), 0, w - 1)]
+        return values
+
+    found = {}
+    sources = sorted({cell["source"] for cell in atlas["cells"]})
+    for source in sources:
+        picked = slots == source
+        painted = lookup(lambda cell: os.path.join(folder, cell["files"]["color"]), source, picked)[picked]
+        own = lookup(lambda cell: cell["path"], source, picked)[picked]
+        found[str(source)] = float(np.corrcoef(painted, own)[0, 1])
+    return found
+
+
+@check
+def texture_set_of_two_materials_and_udim_tiles():
+    """A ball of two materials (each its own photograph) and a cube whose faces lie on two UDIM tiles, painted:
+    each slot and each tile from its own source, each slot showing its source's painted material (UDIM tiles as a
+    tiled image), the relief reading the atlas through a UV map of its own, the originals back with one toggle."""
+    import shutil
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    settings = bpy.context.scene.paint_relief
+    settings.object_texture_size = "1024"
+    settings.seed = 3
+    found = {}
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=24, ring_count=12)
+    ball = bpy.context.active_object
+    for name, photo in (("Lower", "coffee.png"), ("Upper", "chelsea.png")):
+        ball.data.materials.append(photo_material(name, os.path.join(REPO, "sample_scenes", photo)))
+    for polygon in ball.data.polygons:
+        polygon.material_index = int(polygon.center.z > 0.0)
+    bpy.ops.mesh.primitive_cube_add(size=0.4, location=(2.0, 0.0, 0.0))
+    cube = bpy.context.active_object
+    for tile, photo in ((1001, "chelsea.png"), (1002, "coffee.png")):
+        shutil.copyfile(os.path.join(REPO, "sample_scenes", photo), os.path.join(WORK, "tiles.{}.png".format(tile)))
+    tiles = photo_material("Tiles", os.path.join(WORK, "tiles.1001.png"))
+    image = next(node for node in tiles.node_tree.nodes if node.bl_idname == "ShaderNodeTexImage").image
+    image.source = "TILED"
+    cube.data.materials.append(tiles)
+    uv = cube.data.uv_layers.active.data
+    for polygon in cube.data.polygons:
+        if polygon.normal.z > 0.5 or polygon.normal.x > 0.5:
+            for loop in polygon.loop_indices:
+                uv[loop].uv = (uv[loop].uv[0] + 1.0, uv[loop].uv[1])
+    for obj, name in ((ball, "set_ball"), (cube, "set_cube")):
+        for other in bpy.context.view_layer.objects:
+            other.select_set(other == obj)
+        bpy.context.view_layer.objects.active = obj
+        settings.object_output_dir = os.path.join(WORK, name)
+        result, error = run(bpy.ops.paint_relief.paint_object)
+        folder = settings.object_output_dir
+        displace = obj.modifiers.get("Paint Relief Displace")
+        colour = [node.image for slot in obj.material_slots for node in slot.material.node_tree.nodes
+                  if node.bl_idname == "ShaderNodeTexImage" and node.image and "color" in node.image.filepath]
+        found[name] = {"result": result, "error": error, "files": sorted(os.listdir(folder)) if result else [],
+                       "slots": [slot.material.name for slot in obj.material_slots],
+                       "colour_sources": sorted({image.source for image in colour}),
+                       "uv_maps": [layer.name for layer in obj.data.uv_layers],
+                       "render_uv": next(layer.name for layer in obj.data.uv_layers if layer.active_render),
+                       "displace_uv": displace.uv_layer if displace else None,
+                       "r": source_agreement(obj, folder) if result else {}}
+        found[name]["back"], _ = run(bpy.ops.paint_relief.object_painting, show=False)
+        found[name]["original"] = [slot.material.name for slot in obj.material_slots]
+        run(bpy.ops.paint_relief.object_painting, show=True)
+    path = os.path.join(WORK, "texture_set.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    found["reopened"] = {name: [slot.material.name for slot in bpy.data.objects[name].material_slots]
+                         for name in ("Sphere", "Cube")}
+    found["materials"] = sorted(m.name for m in bpy.data.materials)
     return found
 
 

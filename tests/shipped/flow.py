@@ -376,6 +376,52 @@ def main(zip_path, work):
                 "modifiers": [m.type for m in cube.modifiers], "engine": scene.render.engine}
 
     @step
+    def paint_object_of_udim_tiles_and_a_baked_slot():
+        """A cube of two slots: a UDIM image of two tiles on disk, and a plain material, which is baked."""
+        bpy.ops.object.select_all(action="DESELECT")
+        bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, 3.0, 0.0))
+        cube = bpy.context.active_object
+        cube.name = "Tiled box"
+        y, x = np.mgrid[0:32, 0:32]
+        for tile, phase in ((1001, 0.0), (1002, 2.0)):
+            writing.write_png(os.path.join(work, "tiles.{}.png".format(tile)),
+                              np.stack([0.5 + 0.4 * np.sin(x / 4.0 + phase), y / 32, 0.5 + 0 * x], -1)
+                              .astype(np.float32))
+        tiles = bpy.data.materials.new("Tiles")
+        plain = bpy.data.materials.new("Plain")
+        for material in (tiles, plain):
+            if material.node_tree is None:
+                material.use_nodes = True
+        texture = tiles.node_tree.nodes.new("ShaderNodeTexImage")
+        texture.image = bpy.data.images.load(os.path.join(work, "tiles.1001.png"))
+        texture.image.source = "TILED"
+        bsdf = next(n for n in tiles.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+        tiles.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+        cube.data.materials.append(tiles)
+        cube.data.materials.append(plain)
+        uv = cube.data.uv_layers.active.data
+        for polygon in cube.data.polygons:
+            polygon.material_index = int(polygon.normal.z < -0.5)
+            if polygon.normal.x > 0.5:
+                for loop in polygon.loop_indices:
+                    uv[loop].uv = (uv[loop].uv[0] + 1.0, uv[loop].uv[1])
+        settings.object_output_dir = os.path.join(work, "tiles")
+        settings.object_relief = "DISPLACE"
+        result, error = run_op(ops.paint_object)
+        folder = settings.object_output_dir
+        displace = cube.modifiers.get("Paint Relief Displace")
+        back, _ = run_op(ops.object_painting, show=False)
+        original = [slot.material.name for slot in cube.material_slots]
+        run_op(ops.object_painting, show=True)
+        return {"result": result, "error": error,
+                "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else [],
+                "slots": [slot.material.name for slot in cube.material_slots],
+                "tiled": sorted({node.image.source for slot in cube.material_slots
+                                 for node in slot.material.node_tree.nodes
+                                 if node.bl_idname == "ShaderNodeTexImage" and node.image}),
+                "displace_uv": displace.uv_layer if displace else None, "back": back, "original": original}
+
+    @step
     def user_world_survives_add_lights_and_reload():
         world = bpy.data.worlds.new("My World")
         scene.world = world

@@ -166,3 +166,12 @@ def test_paint_object_offers_smart_uv_project_then_paints_a_bake_with_a_normal_m
     assert found["unwrapped"] == ["FINISHED"]
     assert found["result"] == ["FINISHED"], found["error"]
     assert {"normal.exr", "source.png"} <= set(found["files"]) and found["modifiers"] == []
+
+
+def test_paint_object_paints_udim_tiles_and_a_baked_slot_each_from_its_own_source(flow):
+    found = _step(flow, "paint_object_of_udim_tiles_and_a_baked_slot")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert {"color.s0.1001.exr", "color.s0.1002.exr", "color.s1.exr", "height.s1.exr"} <= set(found["files"])
+    assert found["slots"] == ["Paint Relief Tiled box", "Paint Relief Tiled box 2"]
+    assert found["tiled"] == ["FILE", "TILED"] and found["displace_uv"] == "Paint Relief Atlas"
+    assert found["back"] == ["FINISHED"] and found["original"] == ["Tiles", "Plain"]
