@@ -328,7 +328,8 @@ def _add_object_parser(sub) -> None:
         description="Paint TEXTURE, the texture of the mesh MESH (a Wavefront OBJ file with texture coordinates, "
                     "positions in metres), island by island in its UV space: each UV island from its own texels, "
                     "strokes as wide in millimetres on every island. Writes the maps a still has, in UV space, and "
-                    "report.json with each island's texel density and stroke widths.")
+                    "report.json with each island's texel density and stroke widths. Several textures (one per "
+                    "material) or UDIM tiles are painted as one atlas, with each one's maps written too.")
     p.add_argument("texture", metavar="TEXTURE", nargs="+",
                    help="the texture to paint (PNG, JPEG, TIFF, EXR, ...); several for a mesh of several materials, "
                         "the k-th for the OBJ's k-th material in the order its usemtl lines first name them; a "
@@ -337,7 +338,8 @@ def _add_object_parser(sub) -> None:
     p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
                    help="folder for the outputs (created if missing)")
     p.add_argument("--texture-size", type=_int, default=None, metavar="N",
-                   help="paint an N x N texture (default: the source's longer side)")
+                   help="paint an N x N texture, N x N for each texture or UDIM tile with several, which are "
+                        "painted as one atlas of G x G of them (default: the sources' longest side)")
     p.add_argument("--stroke-mm", type=_widths, default=None, metavar="32,16,8",
                    help="stroke widths in millimetres on the surface (default: the still's widths for the texture "
                         "at its median texel's size)")
