@@ -399,7 +399,7 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     before any work (``Params.validate_object``), and report.json names the "method" painted.
     across_seams: strokes run on across the UV seams (``surface.apron``), the borders between cells included
     where the surface runs on (the default); False paints each island apart, its strokes stopping at its
-    borders. Across the seams, an island's canvas spans at most ``surface.apron.APRON_AREA`` (1.1) times its box
+    borders. Across the seams, an island's canvas spans at most ``surface.apron.APRON_AREA`` (1.2) times its box
     painted apart (the apron reaches less far for an island whose strokes are wide against it), so painting
     across costs about as much as apart (bench/seam_cost.py: about 1.0 to 1.2 times the processor seconds) and
     a source that runs on over the surface steps across the seams about as it does (docs/objects.md).

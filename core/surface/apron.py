@@ -48,7 +48,7 @@ CARRY_REACH = 4.0
 """The neighbours' texels looked at for paint carried back lie within this many apron widths of the seam (a bound
 for charts that shrink the neighbour's texels a lot, as at a sphere's poles)."""
 
-APRON_AREA = 1.1
+APRON_AREA = 1.2
 """An island's canvas across its seams, its box widened to hold its apron, spans at most this many times the
 texels of its box painted apart (``apron_reach``): an island whose strokes are wide against it gets a shorter
 apron rather than a canvas up to twice as wide again."""
