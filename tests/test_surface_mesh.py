@@ -169,8 +169,8 @@ def cube_obj(path: Path) -> Path:
     from seam_meshes import cube
 
     mesh = cube(cells=2)
-    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in mesh.position.reshape(-1, 3)]
-    lines += [f"vt {u!r} {v!r}" for u, v in mesh.uv.reshape(-1, 2)]
+    lines = [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in mesh.position.reshape(-1, 3)]
+    lines += [f"vt {float(u)!r} {float(v)!r}" for u, v in mesh.uv.reshape(-1, 2)]
     lines += [f"f {3 * t + 1}/{3 * t + 1} {3 * t + 2}/{3 * t + 2} {3 * t + 3}/{3 * t + 3}" for t in range(len(mesh.uv))]
     path.write_text("\n".join(lines) + "\n")
     return path
