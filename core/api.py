@@ -370,7 +370,7 @@ SOURCE_COPY = "source"
 def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: Optional[int] = None,
                  stroke_mm=None, progress: ProgressFn = None, cancel: CancelFn = None,
                  max_memory: Optional[int] = None, normal_map: bool = False, keep_source: bool = False,
-                 across_seams: bool = False) -> dict:
+                 across_seams: bool = True) -> dict:
     """Paint the texture ``texture_path`` of ``mesh`` in its UV space (ALGORITHM §10) and write every output into
     ``output_dir``, as ``paint_file`` writes a still's; return the report.
 
@@ -398,9 +398,11 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     method and layout, whose strokes are laid on each island's texels alone: any other is refused in one sentence
     before any work (``Params.validate_object``), and report.json names the "method" painted.
     across_seams: strokes run on across the UV seams (``surface.apron``), the borders between cells included
-    where the surface runs on; off by default, since an island whose
-    strokes are wide against it is painted on a canvas up to twice as wide again: a 16 x 8 UV sphere at 1024
-    texels and its default strokes of 0.75 m took over three times as long as its islands painted apart.
+    where the surface runs on (the default); False paints each island apart, its strokes stopping at its
+    borders. Across the seams, an island's canvas spans at most ``surface.apron.APRON_AREA`` (1.2) times its box
+    painted apart (the apron reaches less far for an island whose strokes are wide against it), so painting
+    across costs about as much as apart (bench/seam_cost.py: about 1.0 to 1.2 times the processor seconds) and
+    a source that runs on over the surface steps across the seams about as it does (docs/objects.md).
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, cell_map_names, write_cell_maps, write_painting
     from .files.writing import write_png

@@ -345,6 +345,9 @@ def _add_object_parser(sub) -> None:
                         "at its median texel's size)")
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="0..1, how finely detailed areas are split (default: %(default)s)")
+    p.add_argument("--apart-seams", dest="across_seams", action="store_false",
+                   help="paint each UV island apart, its strokes stopping at its borders (default: strokes run on "
+                        "across the UV seams where the surface does)")
     _add_stroke_options(p)
     _add_run_options(p)
     p.set_defaults(run=run_object, sizes=DEFAULTS.stroke_sizes)
@@ -357,7 +360,8 @@ def run_object(args: argparse.Namespace, progress) -> None:
 
     with reused_heap():
         paint_object(args.texture[0] if len(args.texture) == 1 else args.texture, args.mesh, args.output, params_from_args(args), args.texture_size,
-                     args.stroke_mm, progress=progress, max_memory=max_memory(args), normal_map=args.normal_map)
+                     args.stroke_mm, progress=progress, max_memory=max_memory(args), normal_map=args.normal_map,
+                     across_seams=args.across_seams)
 
 
 def _add_farm_options(p) -> None:

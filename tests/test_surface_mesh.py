@@ -162,3 +162,35 @@ def test_the_object_command_has_no_method_to_choose(tmp_path):
     assert run.returncode == 2
     assert "Unrecognized arguments: --method hertzmann98" in one_sentence_run(run)
     assert not (tmp_path / "out").exists()
+
+
+def cube_obj(path: Path) -> Path:
+    """``seam_meshes.cube(cells=2)`` written as an OBJ file, each triangle's corners and UVs of their own."""
+    from seam_meshes import cube
+
+    mesh = cube(cells=2)
+    lines = [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in mesh.position.reshape(-1, 3)]
+    lines += [f"vt {float(u)!r} {float(v)!r}" for u, v in mesh.uv.reshape(-1, 2)]
+    lines += [f"f {3 * t + 1}/{3 * t + 1} {3 * t + 2}/{3 * t + 2} {3 * t + 3}/{3 * t + 3}" for t in range(len(mesh.uv))]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_core_object_paints_across_the_seams_by_default_and_apart_with_apart_seams(tmp_path):
+    """The default is the painting of ``core.paint_object(..., across_seams=True)``; --apart-seams that of
+    across_seams=False, and the two differ on a cube, whose seams run on over its edges."""
+    from core import api
+    from core.params import Params
+
+    mesh = cube_obj(tmp_path / "cube.obj")
+    write_png(tmp_path / "texture.png", np.random.default_rng(3).random((64, 64, 3)), bits=16)
+    arguments = (tmp_path / "texture.png", "--mesh", mesh, "--texture-size", 64, "--stroke-mm", "120,60",
+                 "--seed", 2)
+    for flags, across in (((), True), (("--apart-seams",), False)):
+        folder = tmp_path / f"cli_{across}"
+        run = command(*arguments, *flags, "-o", folder)
+        assert run.returncode == 0, run.stderr
+        api.paint_object(tmp_path / "texture.png", mesh, tmp_path / f"api_{across}", Params(seed=2), 64, (120, 60),
+                         across_seams=across)
+        assert (folder / "color.exr").read_bytes() == (tmp_path / f"api_{across}" / "color.exr").read_bytes()
+    assert (tmp_path / "cli_True" / "color.exr").read_bytes() != (tmp_path / "cli_False" / "color.exr").read_bytes()

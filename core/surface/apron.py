@@ -48,6 +48,14 @@ CARRY_REACH = 4.0
 """The neighbours' texels looked at for paint carried back lie within this many apron widths of the seam (a bound
 for charts that shrink the neighbour's texels a lot, as at a sphere's poles)."""
 
+APRON_AREA = 1.2
+"""An island's canvas across its seams, its box widened to hold its apron, spans at most this many times the
+texels of its box painted apart (``apron_reach``): an island whose strokes are wide against it gets a shorter
+apron rather than a canvas up to twice as wide again."""
+
+REACH_STEPS = 24
+"""Halvings of the interval the apron's reach is searched in (``apron_reach``): to about 1e-7 of the margin."""
+
 BAND_CHUNK = 1 << 22
 """(texel, edge) pairs measured at once while the texels near edges are found: bounds the memory."""
 
@@ -279,6 +287,44 @@ def widest_stretch(charts: SeamCharts, island: int) -> float:
     """The largest ``stretch`` of island ``island``'s seams (1 without any)."""
     seams = np.flatnonzero((charts.island == island) & (charts.neighbour != NO_ISLAND))
     return float(np.max(stretch(charts, seams), initial=1.0))
+
+
+def apron_reach(charts: SeamCharts, island: int, bounds: np.ndarray, base: Tuple[slice, slice], margin: float,
+                area: float = APRON_AREA) -> Tuple[float, slice, slice]:
+    """(reach, rows, cols): how far island ``island``'s apron reaches past its seams, in its texels (times each
+    seam's ``stretch`` past the seams it leads), and the box that holds every texel the apron may need, rows x cols
+    of the texture's texels (reaching past the texture where the seams run on there). ``bounds`` (2, 2) int: the
+    island's texels' first and last (row, col); ``base`` (rows, cols): its box painted apart (widened by
+    ``margin`` texels, within the texture). The box holds the base box, the island's texels widened by the reach,
+    and the texels within the reach (times the stretch) of the island's leading seams. The reach is ``margin`` when
+    that box spans at most ``area`` times the base box's texels, else the largest reach in [0, margin] whose box
+    does (found by halving, so the same inputs give the same reach): the apron's cost is bounded for islands whose
+    strokes are wide against them."""
+    rows, cols = base
+    seams = np.flatnonzero((charts.island == island) & charts.leads)
+    low, high = charts.ends[seams].min(axis=1), charts.ends[seams].max(axis=1)     # (S, 2) (x, y)
+    grow = stretch(charts, seams)
+    limit = area * (rows.stop - rows.start) * (cols.stop - cols.start)
+
+    def box(reach: float) -> Tuple[slice, slice]:
+        pad = reach * grow + 1.0
+        top = min(rows.start, int(bounds[0, 0] - np.ceil(reach)), int(np.floor(np.min(low[:, 1] - pad))))
+        bottom = max(rows.stop, int(bounds[1, 0] + np.ceil(reach)) + 1, int(np.ceil(np.max(high[:, 1] + pad))) + 1)
+        left = min(cols.start, int(bounds[0, 1] - np.ceil(reach)), int(np.floor(np.min(low[:, 0] - pad))))
+        right = max(cols.stop, int(bounds[1, 1] + np.ceil(reach)) + 1, int(np.ceil(np.max(high[:, 0] + pad))) + 1)
+        return slice(top, bottom), slice(left, right)
+
+    def fits(reach: float) -> bool:
+        r, c = box(reach)
+        return (r.stop - r.start) * (c.stop - c.start) <= limit
+
+    if not len(seams) or fits(margin):
+        return (float(margin), *box(margin)) if len(seams) else (float(margin), rows, cols)
+    short, long = 0.0, float(margin)
+    for _ in range(REACH_STEPS):
+        middle = 0.5 * (short + long)
+        short, long = (middle, long) if fits(middle) else (short, middle)
+    return (short, *box(short))
 
 
 def leads_any(charts: SeamCharts, island: int) -> bool:

@@ -44,6 +44,7 @@ from .apron import (
     Apron,
     Carry,
     SeamCharts,
+    apron_reach,
     carried,
     island_apron,
     island_bilinear,
@@ -181,15 +182,18 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
     rows, cols = island_box(islands == island, margin)
     apron = None
     if across:
-        widest = int(np.ceil(margin * widest_stretch(charts, island)))
-        wide_rows, wide_cols = island_box(islands == island, widest, clipped=False)
+        own = islands == island
+        found = [np.flatnonzero(own.any(axis=1)), np.flatnonzero(own.any(axis=0))]
+        bounds = np.array([[found[0][0], found[1][0]], [found[0][-1], found[1][-1]]])
+        reach, wide_rows, wide_cols = apron_reach(charts, island, bounds, (rows, cols), margin)
         wide = island_apron(charts, islands, island, (wide_rows.start, wide_cols.start),
-                            padded(islands, wide_rows, wide_cols, NO_ISLAND), float(margin))
-        near = (np.abs(wide.rows - (wide_rows.stop - wide_rows.start - 1) / 2) <= (wide_rows.stop - wide_rows.start - 1)
-                / 2 - (widest - margin)) & (np.abs(wide.cols - (wide_cols.stop - wide_cols.start - 1) / 2)
-                                            <= (wide_cols.stop - wide_cols.start - 1) / 2 - (widest - margin))
+                            padded(islands, wide_rows, wide_cols, NO_ISLAND), reach)
+        r, c = wide.rows + wide_rows.start, wide.cols + wide_cols.start
+        near = ((r >= bounds[0, 0] - reach) & (r <= bounds[1, 0] + reach) & (c >= bounds[0, 1] - reach)
+                & (c <= bounds[1, 1] + reach))
         rows, cols, apron = fitted(rows, cols, wide, (wide_rows.start, wide_cols.start),
                                    charts.leads[wide.edge] | near)
+        carry_reach = reach * widest_stretch(charts, island)
     box = padded(islands, rows, cols, NO_ISLAND)
     mask = box == island
     image = extended(padded(texture, rows, cols, 0.0), mask)
@@ -217,7 +221,7 @@ def paint_island(texture: np.ndarray, islands: np.ndarray, island: int, sizes: T
         feather[apron.rows, apron.cols] = apron.feather
         carry = carried(charts, islands, apron, (rows.start, cols.start),
                         np.concatenate([now, start, transmitted(start, now)[..., None]], axis=2), feather,
-                        float(widest))
+                        carry_reach)
         inside = (slice(-rows.start if rows.start < 0 else 0, None), slice(-cols.start if cols.start < 0 else 0, None))
         size = islands.shape[0]
         rows, cols = slice(max(rows.start, 0), min(rows.stop, size)), slice(max(cols.start, 0), min(cols.stop, size))
