@@ -30,7 +30,7 @@ import bpy
 from .. import values
 from ..scene import canvas_plane, maps
 from ..scene import material as canvas_material
-from .relief import add_relief, relief_modifiers, remove_relief
+from .relief import add_relief, mark_relief, relief_modifiers, remove_relief
 from .surface import uv_map_name
 
 ORIGINALS_KEY = "paint_relief_originals"
@@ -52,10 +52,13 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size):
     canvas_material.set_material_displacement(painted, "DISPLACEMENT" if adaptive else "BUMP")
     keep_originals(obj, (original_materials(obj) or []) if shows_painting(obj) else
                    [slot.material for slot in obj.material_slots])
+    if obj.get(PAINTED_KEY) is None:
+        mark_relief(obj, [])        # painted now, not before: no modifier of the user's is taken for the relief
     obj[PAINTED_KEY] = painted
     remove_relief(obj)
     if adaptive:
-        canvas_plane.add_adaptive_subdivision(scene, obj)
+        mark_relief(obj, [canvas_plane.add_adaptive_subdivision(
+            scene, obj, obj.modifiers.new(canvas_plane.SUBDIVISION_MODIFIER, "SUBSURF"))])
     elif not normal_map:
         add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size)
     show_painting(obj, True)

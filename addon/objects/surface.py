@@ -19,10 +19,42 @@ BAKE_IMAGE_NAME = "Paint Relief Bake"
 BAKE_NODE_NAME = "Paint Relief Bake Target"
 
 
-def mesh_problem(obj):
-    """One sentence when ``obj`` cannot be painted as an object (not a mesh, no faces, no UV map), else None."""
-    if obj is None or obj.type != "MESH":
-        return "Select a mesh object to paint its texture."
+OBJECT_KINDS = {"CURVE": "a curve", "SURFACE": "a NURBS surface", "META": "a metaball", "FONT": "a text object",
+                "CURVES": "a hair curves object", "POINTCLOUD": "a point cloud", "VOLUME": "a volume",
+                "GREASEPENCIL": "a Grease Pencil object", "GPENCIL": "a Grease Pencil object", "EMPTY": "an empty",
+                "ARMATURE": "an armature", "LATTICE": "a lattice", "CAMERA": "a camera", "LIGHT": "a light",
+                "LIGHT_PROBE": "a light probe", "SPEAKER": "a speaker"}
+"""What each kind of object other than a mesh is called in a sentence."""
+CONVERTIBLE = ("CURVE", "SURFACE", "META", "FONT")
+"""The kinds of object Blender converts to a mesh (Object > Convert > Mesh)."""
+MODES = {"EDIT": "Edit Mode", "SCULPT": "Sculpt Mode", "VERTEX_PAINT": "Vertex Paint", "WEIGHT_PAINT": "Weight Paint",
+         "TEXTURE_PAINT": "Texture Paint", "PARTICLE_EDIT": "Particle Edit"}
+
+
+def mesh_problem(obj, context=None):
+    """One sentence when ``obj`` cannot be painted as an object (none, not a mesh, not in Object Mode, not in
+    ``context``'s view layer, its mesh shared with another object, no faces, no UV map), else None."""
+    if obj is None:
+        return "There is no active object: click the mesh object to paint, then press Paint Object."
+    if obj.type != "MESH":
+        kind = OBJECT_KINDS.get(obj.type, "a {} object".format(obj.type.lower().replace("_", " ")))
+        if obj.type in CONVERTIBLE:
+            return ("Object {} is {}: Paint Object paints meshes; convert it to a mesh (Object > Convert > Mesh) "
+                    "first.".format(obj.name, kind))
+        return "Object {} is {}, which has no surface to paint: Paint Object paints meshes.".format(obj.name, kind)
+    if obj.mode != "OBJECT":
+        return "Object {} is in {}: switch to Object Mode, then paint.".format(
+            obj.name, MODES.get(obj.mode, obj.mode.replace("_", " ").title()))
+    if context is not None and context.view_layer.objects.get(obj.name) is None:
+        return "Object {} is not in view layer {}: include its collection, then paint.".format(
+            obj.name, context.view_layer.name)
+    if obj.data.users > 1:
+        others = [other.name for other in bpy.data.objects if other.data == obj.data and other != obj]
+        if others:
+            return ("Object {} shares its mesh {} with {}: make it a single user (Object > Relation > Make Single "
+                    "User > Object & Data) to paint it alone.".format(
+                        obj.name, obj.data.name, "object " + others[0] if len(others) == 1 else
+                        "{} other objects".format(len(others))))
     if len(obj.data.polygons) == 0:
         return "Object {} has no faces to paint.".format(obj.name)
     if len(obj.data.uv_layers) == 0:
@@ -39,25 +71,60 @@ def uv_map_name(obj):
 
 
 def mesh_triangles(context, obj):
-    """(uv (T, 3, 2) float64, position (T, 3, 3) float64 metres): the corners of the object's mesh's loop
-    triangles (its own mesh, before modifiers), UVs of ``uv_map_name``, positions in the world (the object's
-    transform and the scene's unit scale applied)."""
-    mesh = obj.data
-    mesh.calc_loop_triangles()
-    count = len(mesh.loop_triangles)
-    loops = np.empty(count * 3, np.int32)
-    mesh.loop_triangles.foreach_get("loops", loops)
-    vertices = np.empty(count * 3, np.int32)
-    mesh.loop_triangles.foreach_get("vertices", vertices)
-    uv = np.empty(len(mesh.loops) * 2, np.float32)
-    mesh.uv_layers[uv_map_name(obj)].data.foreach_get("uv", uv)
-    co = np.empty(len(mesh.vertices) * 3, np.float32)
-    mesh.vertices.foreach_get("co", co)
-    world = np.array(obj.matrix_world, np.float64)
+    """(uv (T, 3, 2) float64, position (T, 3, 3) float64 metres): the corners of the loop triangles of the
+    surface the user sees (``obj``'s mesh through its modifiers, shape keys and pose, the relief modifiers of
+    Paint Object left out when they are hidden), UVs of ``uv_map_name``, positions in the world (the object's
+    transform and the scene's unit scale applied). ValueError (one sentence) when the modifiers leave no face
+    or drop that UV map."""
+    name = uv_map_name(obj)
+    evaluated = obj.evaluated_get(context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        if len(mesh.polygons) == 0:
+            raise ValueError("Object {}'s modifiers leave it no faces to paint.".format(obj.name))
+        layer = mesh.uv_layers.get(name)
+        if layer is None:
+            raise ValueError("Object {}'s modifiers leave its surface without its UV map {}, which the texture "
+                             "is painted in.".format(obj.name, name))
+        mesh.calc_loop_triangles()
+        count = len(mesh.loop_triangles)
+        loops = np.empty(count * 3, np.int32)
+        mesh.loop_triangles.foreach_get("loops", loops)
+        vertices = np.empty(count * 3, np.int32)
+        mesh.loop_triangles.foreach_get("vertices", vertices)
+        uv = np.empty(len(mesh.loops) * 2, np.float32)
+        layer.data.foreach_get("uv", uv)
+        co = np.empty(len(mesh.vertices) * 3, np.float32)
+        mesh.vertices.foreach_get("co", co)
+        world = np.array(evaluated.matrix_world, np.float64)
+    finally:
+        evaluated.to_mesh_clear()
     points = co.reshape(-1, 3).astype(np.float64) @ world[:3, :3].T + world[:3, 3]
     points *= context.scene.unit_settings.scale_length
-    return (uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2),
-            points[vertices].reshape(count, 3, 3))
+    corners = uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2)
+    position = points[vertices].reshape(count, 3, 3)
+    check_layout(obj, name, corners, position)
+    return corners, position
+
+
+def check_layout(obj, name, uv, position):
+    """ValueError (one sentence naming ``obj`` and its UV map ``name``) when no triangle of (T, 3, 2) ``uv`` and
+    (T, 3, 3) ``position`` has both an area on the surface and an area in UV space over the texture's square
+    0..1 (all faces on a point or a line, in UV or on the surface, or all outside the square)."""
+    u, v = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    uv_area = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
+    surface_area = np.linalg.norm(np.cross(position[:, 1] - position[:, 0], position[:, 2] - position[:, 0]),
+                                  axis=1) / 2
+    low, high = uv.min(axis=1), uv.max(axis=1)
+    over = np.all((high > 0.0) & (low < 1.0), axis=1)
+    if not np.any(uv_area > 1e-12):
+        raise ValueError("Object {}'s UV map {} has no area: its faces lie on a point or a line in UV space; unwrap "
+                         "it (Smart UV Project in the Paint Object panel), then paint.".format(obj.name, name))
+    if not np.any(surface_area > 1e-12):
+        raise ValueError("Object {}'s faces have no area to paint: they lie on a point or a line.".format(obj.name))
+    if not np.any(over & (uv_area > 1e-12) & (surface_area > 1e-12)):
+        raise ValueError("Object {}'s UV map {} lies outside the texture's square 0..1: move its islands into it, "
+                         "then paint.".format(obj.name, name))
 
 
 def base_color_image(obj, materials=None):
@@ -82,6 +149,15 @@ def image_on_disk(image):
         return None
     path = os.path.normpath(bpy.path.abspath(image.filepath, library=image.library))
     return path if os.path.isfile(path) else None
+
+
+def missing_file(image):
+    """The absolute path of ``image``'s file when Blender should read it from disk (not packed, not generated)
+    and it is not there, else None."""
+    if image.packed_file is not None or image.source not in ("FILE", "SEQUENCE") or not image.filepath:
+        return None
+    path = os.path.normpath(bpy.path.abspath(image.filepath, library=image.library))
+    return None if os.path.isfile(path) or image.has_data else path
 
 
 def write_image(image, path):
@@ -115,9 +191,12 @@ def bake_diffuse_colour(context, obj, size, path):
     engine, samples = scene.render.engine, scene.cycles.samples
     selected = [o for o in context.view_layer.objects if o.select_get()]
     active = context.view_layer.objects.active
+    hidden = obj.hide_get(), obj.hide_viewport, obj.hide_render     # Cycles bakes only what it sees
     image = bpy.data.images.new(BAKE_IMAGE_NAME, size, size, alpha=False)
     added = []
     try:
+        obj.hide_set(False)
+        obj.hide_viewport = obj.hide_render = False
         for material in materials:
             if material.node_tree is None:
                 material.use_nodes = True
@@ -132,9 +211,15 @@ def bake_diffuse_colour(context, obj, size, path):
             other.select_set(False)
         obj.select_set(True)
         context.view_layer.objects.active = obj
-        bpy.ops.object.bake(type="DIFFUSE", pass_filter={"COLOR"}, margin=8, use_clear=True)
+        try:
+            bpy.ops.object.bake(type="DIFFUSE", pass_filter={"COLOR"}, margin=8, use_clear=True)
+        except RuntimeError as error:
+            why = " ".join(str(error).replace("Error:", " ").split()).rstrip(".")
+            raise ValueError("Cycles could not bake the colour of object {}: {}.".format(obj.name, why)) from None
         return write_image(image, path)
     finally:
+        obj.hide_viewport, obj.hide_render = hidden[1:]
+        obj.hide_set(hidden[0])
         for material, node in added:
             material.node_tree.nodes.remove(node)
         bpy.data.images.remove(image)
@@ -152,6 +237,10 @@ def texture_source(context, obj, file_path, size, scratch):
     image = base_color_image(obj)
     written = os.path.join(scratch, "source.png")
     if image is not None:
+        missing = missing_file(image)
+        if missing is not None:
+            raise ValueError("Image {}'s file {} does not exist: find it (File > External Data > Find Missing "
+                             "Files) or choose another image, then paint.".format(image.name, missing))
         on_disk = image_on_disk(image)
         return (on_disk if on_disk is not None else write_image(image, written)), "base color"
     if file_path:
