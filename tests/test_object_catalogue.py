@@ -146,9 +146,10 @@ def test_a_second_painting_is_painted_from_the_original_source(catalogue):
 
 def test_esc_midway_writes_nothing_and_leaves_the_object_as_it_was(catalogue):
     found = _step(catalogue, "cancelled_midway")
-    assert found["stopped"] and found["folder_absent"] and found["look_kept"] and found["leftovers"] == []
-    assert found["sentence"] == ("Painting Cancelled was stopped: its maps were not written and the object is as "
-                                 "it was.")
+    assert found["outcome"] == ["CANCELLED"] and not found["running"]
+    assert found["folder_absent"] and found["look_kept"] and found["leftovers"] == []
+    assert found["reports"] == [["WARNING", "Painting Cancelled was stopped: its maps were not written and the "
+                                            "object is as it was."]]
 
 
 def test_a_hidden_object_is_painted_and_stays_hidden(catalogue):
@@ -170,6 +171,14 @@ def test_the_100k_face_mesh_and_the_8k_photograph_paint_in_bounded_time(catalogu
 
 def test_no_traceback_reached_the_output(catalogue):
     assert all("Traceback" not in found.get("error", "") for found in catalogue.values() if isinstance(found, dict))
+
+
+def test_a_material_without_an_image_is_baked_and_its_nodes_are_left_as_they_were(catalogue):
+    for name in ("material_with_use_nodes_off", "material_with_no_nodes", "hidden_object_baked"):
+        found = _step(catalogue, name)
+        assert found["input"].endswith("source.png") and "source.png" in found["files"], name
+    assert _step(catalogue, "material_with_use_nodes_off")["nodes_kept"]
+    assert _step(catalogue, "material_with_no_nodes")["nodes_left"] == []
 
 
 # --- the sample script ------------------------------------------------------------------------------------------
@@ -243,3 +252,4 @@ def test_ctrl_c_in_the_sample_script_is_one_sentence_and_nothing_half_written(ca
         assert {path: path.read_bytes() for path in out.rglob("*") if path.is_file()} == before
     else:
         assert not out.exists()
+

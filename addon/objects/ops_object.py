@@ -78,7 +78,8 @@ def _prepare(operator, context):
     if problem is not None:
         operator.report({"ERROR"}, problem)
         return None
-    size = getattr(operator, "texture_size", 0) or int(settings.object_texture_size)
+    size = getattr(operator, "texture_size", 0)        # a script's choice, else the panel's
+    size = size if isinstance(size, int) and size > 0 else int(settings.object_texture_size)
     scratch = tempfile.mkdtemp(prefix="paint_relief_object_")
     try:
         params = params_from_settings(settings).validate_object()  # the paper's method: Hertzmann 1998 paints stills

@@ -77,7 +77,7 @@ def mesh_triangles(context, obj):
     transform and the scene's unit scale applied). ValueError (one sentence) when the modifiers leave no face
     or drop that UV map."""
     name = uv_map_name(obj)
-    evaluated = obj.evaluated_get(context.evaluated_depsgraph_get())
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     mesh = evaluated.to_mesh()
     try:
         if len(mesh.polygons) == 0:
@@ -115,14 +115,17 @@ def check_layout(obj, name, uv, position):
     uv_area = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
     surface_area = np.linalg.norm(np.cross(position[:, 1] - position[:, 0], position[:, 2] - position[:, 0]),
                                   axis=1) / 2
+    extent = np.ptp(position.reshape(-1, 3), axis=0).max()
     low, high = uv.min(axis=1), uv.max(axis=1)
     over = np.all((high > 0.0) & (low < 1.0), axis=1)
-    if not np.any(uv_area > 1e-12):
+    has_surface = surface_area > 1e-12 * extent ** 2        # relative to the object's size: float32 rounding
+    has_uv = uv_area > 1e-12
+    if not np.any(has_uv):
         raise ValueError("Object {}'s UV map {} has no area: its faces lie on a point or a line in UV space; unwrap "
                          "it (Smart UV Project in the Paint Object panel), then paint.".format(obj.name, name))
-    if not np.any(surface_area > 1e-12):
+    if not np.any(has_surface):
         raise ValueError("Object {}'s faces have no area to paint: they lie on a point or a line.".format(obj.name))
-    if not np.any(over & (uv_area > 1e-12) & (surface_area > 1e-12)):
+    if not np.any(over & has_uv & has_surface):
         raise ValueError("Object {}'s UV map {} lies outside the texture's square 0..1: move its islands into it, "
                          "then paint.".format(obj.name, name))
 

@@ -683,37 +683,21 @@ def painted_twice(settings):
 
 @case
 def cancelled_midway(settings):
-    """Esc while the worker paints (the modal run's path): nothing written, the object as it was."""
-    import threading
-
-    from paint_relief.addon.modal_job import Worker
+    """Esc while the worker paints, through the operator's own modal path (a window's timer events and Esc, as
+    tests/blender/paint_shot_checks.py drives them): nothing written, the object as it was, one sentence."""
+    from paint_relief.addon.painting import jobs
+    from paint_shot_checks import ModalDriver, painter_waiting_for_esc
 
     obj = textured(cube("Cancelled"))
     folder = settings.object_output_dir = os.path.join(WORK, "cases", "cancelled_midway", "maps")
     before = look(obj)
-
-    class Reporter:
-        reports = []
-
-        def report(self, kind, text):
-            self.reports.append((sorted(kind), text))
-
-    operator = Reporter()
-    operator.texture_size = 1024
-    job = ops_object._prepare(operator, bpy.context)
-    started = threading.Event()
-
-    def progress(*args, **options):
-        started.set()
-
-    worker = Worker(lambda _progress, cancel: job.work(progress, cancel), job.failure)
-    started.wait(60)
-    worker.stop()
-    job.clean()
-    return {"painted": False, "stopped": worker.stopped, "error": worker.error, "sentence": job.stopped,
-            "reports": operator.reports,
+    driver = ModalDriver(bpy, None, ops_object.PAINT_RELIEF_OT_paint_object)
+    driver.operator.texture_size = SIZE
+    with painter_waiting_for_esc("Layer"):
+        driver.run(stop_when=lambda: "Layer" in getattr(getattr(driver.operator, "_worker", None), "message", ""))
+    return {"painted": False, "outcome": driver.outcome, "reports": driver.reports,
             "folder_absent": not os.path.exists(os.path.dirname(folder)), "look_kept": look(obj) == before,
-            "leftovers": leftovers()}
+            "leftovers": leftovers(), "running": jobs.is_running(bpy.context.scene)}
 
 
 @case
