@@ -145,7 +145,7 @@ class VIEW3D_PT_paint_relief_object(_PaintReliefPanel, Panel):
         layout = self._layout()
         settings = context.scene.paint_relief
         obj = context.active_object
-        problem = surface.mesh_problem(obj)
+        problem = surface.mesh_problem(obj, context)
         if problem is not None:
             layout.label(text=problem, icon="ERROR")
             if obj is not None and obj.type == "MESH" and obj.data.polygons:

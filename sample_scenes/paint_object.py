@@ -32,7 +32,8 @@ Steps, each printed with its time:
 The maps are written as the painter commits them: all together or not at
 all, over an earlier painting's in ``OUTDIR/maps`` and beside any other
 file there. A bad input ends with one sentence on stderr and exit code 1 (2
-for a malformed command line); it leaves OUTDIR as it was (an OUTDIR this
+for a malformed command line, 130 for Ctrl-C outside the painter; Ctrl-C
+while it paints is its one sentence and 1); it leaves OUTDIR as it was (an OUTDIR this
 run made is removed again), with any earlier painting in it.
 """
 
@@ -97,7 +98,11 @@ def open_scene(args):
         return bpy.data.objects[args.object or obj.name]
     if not args.scene.is_file():
         raise Failure(f"The scene {args.scene} does not exist.")
-    bpy.ops.wm.open_mainfile(filepath=str(args.scene.resolve()))
+    try:
+        bpy.ops.wm.open_mainfile(filepath=str(args.scene.resolve()))
+    except RuntimeError:
+        raise Failure(f"Blender {bpy.app.version_string} cannot open the scene {args.scene}: it is not a .blend file, "
+                      f"or one this Blender cannot read.") from None
     name = args.object or "Box"
     if name not in bpy.data.objects:
         raise Failure(f"The scene {args.scene} has no object named {name}.")
@@ -108,7 +113,10 @@ def paint(obj, args, maps):
     """Paint Object on ``obj`` into ``maps`` (through the operator, as the panel does)."""
     import bpy
 
-    for other in bpy.context.view_layer.objects:
+    layer = bpy.context.view_layer
+    if layer.objects.get(obj.name) is None:
+        raise Failure(f"Object {obj.name} is not in view layer {layer.name}: include its collection, then paint.")
+    for other in layer.objects:
         other.select_set(False)
     obj.select_set(True)
     bpy.context.view_layer.objects.active = obj
@@ -120,6 +128,8 @@ def paint(obj, args, maps):
     try:
         result = bpy.ops.paint_relief.paint_object()
     except RuntimeError as error:
+        if "KeyboardInterrupt" in str(error):     # Ctrl-C before the painter ran: Blender's own traceback
+            raise KeyboardInterrupt from None
         text = " ".join(str(error).split())
         raise Failure(text[len("Error: "):] if text.startswith("Error: ") else text) from None
     if "FINISHED" not in result:
@@ -389,6 +399,14 @@ def main(argv):
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")
         step("blend")
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)
+    except KeyboardInterrupt:   # Ctrl-C outside the painter (which says so in its own sentence)
+        if created:
+            shutil.rmtree(out, ignore_errors=True)
+        step = times[-1][0] if times else "scene"
+        kept = (f"the folder {out} it made was removed" if created else
+                f"{out} holds what the steps before it wrote" if step not in ("scene", "paint") else f"{out} is as it was")
+        sys.stderr.write(f"Interrupted (Ctrl-C) in the {step} step: {kept}.\n")
+        return 130
     except Exception as error:  # a bad input or a failed step: one sentence
         if created:
             shutil.rmtree(out, ignore_errors=True)

@@ -40,7 +40,7 @@ from .. import values
 from ..scene import canvas_plane, maps
 from ..scene import material as canvas_material
 from . import texture_set
-from .relief import add_relief, relief_modifiers, remove_relief
+from .relief import add_relief, mark_relief, relief_modifiers, remove_relief
 from .surface import uv_map_name
 
 ORIGINALS_KEY = "paint_relief_originals"
@@ -50,10 +50,10 @@ PAINTED_SLOTS_KEY = "paint_relief_painted_slots"
 ATLAS_UV_MAP = "Paint Relief Atlas"
 
 
-def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_source=None, atlas_uv=None):
+def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_source=None):
     """Give ``obj`` of ``scene`` the painting in ``folder``: its painted materials (made, or updated when it has
-    them; one per source of a texture set, ``slot_source`` giving each slot's source and ``atlas_uv`` (T, 3, 2)
-    its loop triangles' coordinates in the atlas, ``texture_set``) and the relief
+    them; one per source of a texture set, ``slot_source`` giving each slot's source, default all the first)
+    and the relief
     (``relief``: 'DISPLACE', 'CYCLES_ADAPTIVE' or 'NORMAL_MAP'); the materials it shows are kept as its
     originals unless it shows its painting (those it had before stay kept then). Returns the first source's
     material. Raises maps.CanvasError (before changing anything) when a map cannot be used."""
@@ -62,9 +62,7 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_
     images = maps.load_maps(folder, roles)
     atlas = texture_set.read_atlas(folder)
     several = texture_set.is_set(atlas)
-    if several and atlas_uv is None:
-        raise maps.CanvasError("The painting in {} is a texture set of {} cells: paint {} again to show "
-                               "it.".format(folder, len(atlas["cells"]), obj.name))
+    slot_source = list(slot_source) if slot_source is not None else [0] * max(1, len(obj.material_slots))
     sets = texture_set.source_images(folder, atlas, roles) if several else [images]
     uv_map = uv_map_name(obj)
     made = []
@@ -77,20 +75,23 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_
         made.append(material)
     keep_originals(obj, (original_materials(obj) or []) if shows_painting(obj) else
                    [slot.material for slot in obj.material_slots])
+    if obj.get(PAINTED_KEY) is None:
+        mark_relief(obj, [])        # painted now, not before: no modifier of the user's is taken for the relief
     obj[PAINTED_KEY] = made[0]
     if len(made) > 1:
-        slots = list(slot_source) if slot_source is not None else [0] * len(obj.material_slots)
-        obj[PAINTED_SLOTS_KEY] = {"slots": len(slots), "sources": {str(k): m for k, m in enumerate(made)},
-                                  "materials": {str(slot): made[min(k, len(made) - 1)] for slot, k in enumerate(slots)}}
+        obj[PAINTED_SLOTS_KEY] = {"slots": len(slot_source), "sources": {str(k): m for k, m in enumerate(made)},
+                                  "materials": {str(slot): made[min(k, len(made) - 1)]
+                                                for slot, k in enumerate(slot_source)}}
     elif PAINTED_SLOTS_KEY in obj:
         del obj[PAINTED_SLOTS_KEY]
     remove_relief(obj)
     if not several:
         texture_set.remove_atlas_uv(obj, ATLAS_UV_MAP)
     if adaptive:
-        canvas_plane.add_adaptive_subdivision(scene, obj)
+        mark_relief(obj, [canvas_plane.add_adaptive_subdivision(
+            scene, obj, obj.modifiers.new(canvas_plane.SUBDIVISION_MODIFIER, "SUBSURF"))])
     elif not normal_map:
-        relief_uv = texture_set.write_atlas_uv(obj, atlas_uv, ATLAS_UV_MAP) if several else uv_map
+        relief_uv = texture_set.write_atlas_uv(obj, atlas, slot_source, uv_map, ATLAS_UV_MAP) if several else uv_map
         add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size, relief_uv)
     show_painting(obj, True)
     return made[0]

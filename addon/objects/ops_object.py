@@ -12,6 +12,7 @@ interactively, or at once headless (``modal_job``). Once it is done, the object 
 relief (``object_material``).
 """
 
+import dataclasses
 import os
 import shutil
 import tempfile
@@ -25,7 +26,10 @@ from ..painting import jobs
 from ..painting.ops_paint import params_from_settings
 from ..scene.maps import CanvasError
 from ..settings import properties
-from . import object_material, sources, surface, texture_set
+from . import object_material, sources, surface
+
+OBJECT_SOURCE_MEGAPIXELS = max(values.TEXTURE_SIZE_CHOICES) ** 2 / 1e6
+"""Megapixels an object's source may hold: as many as the largest texture Paint Object paints (8192 x 8192)."""
 
 
 def object_output_dir(context, obj):
@@ -41,12 +45,14 @@ class ObjectJob:
     """What Paint Object hands its worker and its finish: ``work(progress, cancel)``, the sentence of an
     unexpected ``failure``, the object, its texture's size, ``scratch``, a folder of its own holding the
     texture's sources when Blender had them only in memory or baked them (the painter keeps a copy with the maps
-    as source.png; the folder is removed either way), the mesh painted (``core.SurfaceMesh``) and its sources
-    (``sources.SourceSet``)."""
+    as source.png; the folder is removed either way) and its sources (``sources.SourceSet``)."""
 
-    def __init__(self, work, failure, obj, size, scratch, mesh, source_set):
+    def __init__(self, work, failure, obj, size, scratch, source_set):
         self.work, self.failure, self.obj, self.size, self.scratch = work, failure, obj, size, scratch
-        self.mesh, self.source_set = mesh, source_set
+        self.source_set = source_set
+        self.stopped = "Painting {} was stopped: its maps were not written and the object is as it was.".format(
+            obj.name)
+        """The sentence of a run stopped by Esc or Ctrl-C (the painter commits all or nothing)."""
 
     def finish(self, operator, context, report):
         """Give the object its painting, tell the user."""
@@ -67,23 +73,26 @@ def _prepare(operator, context):
     from ... import core
 
     obj, settings = context.active_object, context.scene.paint_relief
-    problem = surface.mesh_problem(obj)
+    problem = surface.mesh_problem(obj, context)
     if problem is None and jobs.is_running(context.scene):
         problem = ("A painting is already running in scene {}: wait for it to finish or press Esc to cancel "
                    "it.".format(context.scene.name))
     if problem is not None:
         operator.report({"ERROR"}, problem)
         return None
-    size = int(settings.object_texture_size)
+    size = getattr(operator, "texture_size", 0)        # a script's choice, else the panel's
+    size = size if isinstance(size, int) and size > 0 else int(settings.object_texture_size)
     scratch = tempfile.mkdtemp(prefix="paint_relief_object_")
     try:
         params = params_from_settings(settings).validate_object()  # the paper's method: Hertzmann 1998 paints stills
+        # The source is resampled to the texture: it may hold as many pixels as the largest texture offered.
+        params = dataclasses.replace(params, max_megapixels=max(params.max_megapixels, OBJECT_SOURCE_MEGAPIXELS))
         widths = values.parse_widths(settings.object_stroke_mm)
         folder = object_output_dir(context, obj)
         properties.check_output_folder(folder)
         with object_material.original_shown(obj):  # a painted object's sources are its originals', never the painting
             source_set = sources.texture_sources(context, obj, settings.object_texture_path, size, scratch)
-        uv, position, material_index = surface.mesh_triangles(context, obj)
+            uv, position, material_index = surface.mesh_triangles(context, obj)
     except (ValueError, RuntimeError, core.PaintReliefError) as error:
         shutil.rmtree(scratch, ignore_errors=True)
         operator.report({"ERROR"}, str(error))
@@ -97,20 +106,16 @@ def _prepare(operator, context):
         return core.paint_object(paths[0] if len(paths) == 1 else paths, mesh, folder, params, size, widths,
                                  progress=progress, cancel=cancel, normal_map=normal_map, keep_source=keep_source)
 
-    return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch, mesh,
+    return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch,
                      source_set)
 
 
 def _finish(operator, context, job, report):
     """Give the object its painting; report how many strokes went where (or why the maps cannot be shown)."""
-    from ...core.surface.atlas import triangle_atlas_uv
-
     settings, obj = context.scene.paint_relief, job.obj
-    atlas = report.get("atlas")
-    atlas_uv = triangle_atlas_uv(job.mesh.uv, job.mesh.source, None, atlas) if texture_set.is_set(atlas) else None
     try:
         object_material.paint_object_look(context.scene, obj, report["output_dir"], settings.thickness_mm / 1000.0,
-                                          settings.object_relief, job.size, job.source_set.slot_source, atlas_uv)
+                                          settings.object_relief, job.size, job.source_set.slot_source)
     except CanvasError as error:
         operator.report({"ERROR"}, str(error))
         return
@@ -131,9 +136,14 @@ class PAINT_RELIEF_OT_paint_object(jobs.SceneJob, Operator):
     bl_label = "Paint Object"
     bl_options = {"REGISTER", "UNDO"}
 
+    texture_size: bpy.props.IntProperty(
+        name="Texture Size", description="Texels a side of the painted texture (0: the Paint Object panel's Texture "
+        "Size)", default=0, min=0, options={"HIDDEN", "SKIP_SAVE"})
+
     @classmethod
     def poll(cls, context):
-        return mesh_in_object_mode(context)
+        # Any active object, or none: the operator names what is wrong with it in one sentence, as the panel does.
+        return context.scene is not None
 
     def execute(self, context):
         job = _prepare(self, context)
@@ -141,7 +151,11 @@ class PAINT_RELIEF_OT_paint_object(jobs.SceneJob, Operator):
             return {"CANCELLED"}
         jobs.begin(context.scene)
         try:
-            outcome = Outcome().run(job.work, job.failure)
+            try:
+                outcome = Outcome().run(job.work, job.failure)
+            except KeyboardInterrupt:   # Ctrl-C in a headless run
+                self.report({"ERROR"}, job.stopped)
+                return {"CANCELLED"}
             return self.report_outcome(outcome, lambda report: job.finish(self, context, report), False)
         finally:
             jobs.end(context.scene)
@@ -161,6 +175,8 @@ class PAINT_RELIEF_OT_paint_object(jobs.SceneJob, Operator):
         if self.show_worker(context):
             return {"RUNNING_MODAL"}
         worker = self._worker
+        if worker.stopped:
+            worker.error = self._job.stopped
         try:
             return self.report_outcome(worker, lambda report: self._job.finish(self, context, report),
                                        worker.cancel.is_set())

@@ -26,6 +26,13 @@ relief. After the user's own modifiers (never reordered nor changed) come:
    through the UV map, which moves the surface by thickness x height along
    those interpolated normals (``CUSTOM_NORMAL``). The custom normals turn
    with the displaced surface, so the relief shades.
+
+Paint Object knows its modifiers by their ``persistent_uid`` (held on the
+object, RELIEF_KEY), never by name: a modifier of the user's own, whatever
+its name ("Displace", even "Paint Relief Displace"), is never taken for
+one, changed nor removed. Files painted before held no RELIEF_KEY: on a
+painted object there, the modifiers of NAMES with their types are the
+relief.
 """
 
 import bpy
@@ -38,11 +45,34 @@ NORMALS_MODIFIER = "Paint Relief Normals"
 TRIANGLES_MODIFIER = "Paint Relief Triangles"
 NAMES = (NORMALS_MODIFIER, TRIANGLES_MODIFIER, canvas_plane.SUBDIVISION_MODIFIER, canvas_plane.DISPLACE_MODIFIER)
 """The relief modifiers, in their order on the stack."""
+TYPES = dict(zip(NAMES, ("WEIGHTED_NORMAL", "TRIANGULATE", "SUBSURF", "DISPLACE"), strict=True))
+RELIEF_KEY = "paint_relief_relief_modifiers"
+"""The object's ID property: the ``persistent_uid`` of each relief modifier Paint Object added to it."""
 
 
 def relief_modifiers(obj):
-    """The object's relief modifiers that Paint Object added (NAMES), those present."""
-    return [m for m in (obj.modifiers.get(name) for name in NAMES) if m is not None]
+    """The relief modifiers Paint Object added to ``obj`` (those present, in stack order): those RELIEF_KEY
+    names; on an object painted before it was kept, those of NAMES with their types."""
+    kept = obj.get(RELIEF_KEY)
+    if kept is not None and _has_uids():
+        uids = {int(uid) for uid in kept}
+        return [m for m in obj.modifiers if m.persistent_uid in uids]
+    if kept is None and not obj.get(values.PAINTED_MATERIAL_KEY):
+        return []
+    return [m for m in obj.modifiers if TYPES.get(m.name) == m.type]
+
+
+def _has_uids():
+    """Whether this Blender's modifiers have a ``persistent_uid``."""
+    return "persistent_uid" in bpy.types.Modifier.bl_rna.properties
+
+
+def mark_relief(obj, modifiers):
+    """Hold ``modifiers`` on ``obj`` as its relief modifiers (RELIEF_KEY), replacing those held before."""
+    if _has_uids():
+        obj[RELIEF_KEY] = [int(m.persistent_uid) for m in modifiers]
+    else:
+        obj[RELIEF_KEY] = []       # a Blender whose modifiers have no persistent_uid: known by NAMES and types
 
 
 def stack_has_custom_normals(obj):
@@ -102,13 +132,15 @@ def add_relief(obj, height_image, thickness, texture_size, uv_map=None):
     subdivision.levels = max(0, levels - 2)
     subdivision.render_levels = levels
     subdivision.use_custom_normals = True
-    displace = canvas_plane.add_displace(obj, height_image, thickness)
+    displace = canvas_plane.add_displace(obj, height_image, thickness,
+                                         obj.modifiers.new(canvas_plane.DISPLACE_MODIFIER, "DISPLACE"))
     displace.uv_layer = uv_map or uv_map_name(obj)
     displace.texture.extension = "REPEAT"       # as a material reads an image: UVs in another square wrap
     displace.direction = "CUSTOM_NORMAL"
     added = [m for m in (normals, triangles, subdivision, displace) if m is not None]
     for modifier in added:
         modifier.show_viewport = modifier.show_render = True
+    mark_relief(obj, added)
     return added
 
 
@@ -116,4 +148,5 @@ def remove_relief(obj):
     """Remove the relief modifiers Paint Object added (and Blender 4.2's adaptive subdivision flag)."""
     for modifier in relief_modifiers(obj):
         obj.modifiers.remove(modifier)
+    mark_relief(obj, [])
     canvas_plane.set_object_adaptive(None, obj, False)

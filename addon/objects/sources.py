@@ -18,7 +18,7 @@ from typing import List, NamedTuple
 import bpy
 import numpy as np
 
-from .surface import bake_diffuse_colours, base_color_image, image_on_disk, write_image
+from .surface import bake_diffuse_colours, base_color_image, image_on_disk, missing_file, write_image
 
 UDIM_TOKEN = "<UDIM>"
 
@@ -51,6 +51,10 @@ def image_source(image, scratch, index):
     ``scratch``/source.``index``.png when Blender has it only in memory."""
     if image.source == "TILED":
         return tiled_path(image), "udim"
+    missing = missing_file(image)
+    if missing is not None:
+        raise ValueError("Image {}'s file {} does not exist: find it (File > External Data > Find Missing Files) or "
+                         "choose another image, then paint.".format(image.name, missing))
     on_disk = image_on_disk(image)
     if on_disk is not None:
         return on_disk, "base color"

@@ -18,10 +18,42 @@ BAKE_IMAGE_NAME = "Paint Relief Bake"
 BAKE_NODE_NAME = "Paint Relief Bake Target"
 
 
-def mesh_problem(obj):
-    """One sentence when ``obj`` cannot be painted as an object (not a mesh, no faces, no UV map), else None."""
-    if obj is None or obj.type != "MESH":
-        return "Select a mesh object to paint its texture."
+OBJECT_KINDS = {"CURVE": "a curve", "SURFACE": "a NURBS surface", "META": "a metaball", "FONT": "a text object",
+                "CURVES": "a hair curves object", "POINTCLOUD": "a point cloud", "VOLUME": "a volume",
+                "GREASEPENCIL": "a Grease Pencil object", "GPENCIL": "a Grease Pencil object", "EMPTY": "an empty",
+                "ARMATURE": "an armature", "LATTICE": "a lattice", "CAMERA": "a camera", "LIGHT": "a light",
+                "LIGHT_PROBE": "a light probe", "SPEAKER": "a speaker"}
+"""What each kind of object other than a mesh is called in a sentence."""
+CONVERTIBLE = ("CURVE", "SURFACE", "META", "FONT")
+"""The kinds of object Blender converts to a mesh (Object > Convert > Mesh)."""
+MODES = {"EDIT": "Edit Mode", "SCULPT": "Sculpt Mode", "VERTEX_PAINT": "Vertex Paint", "WEIGHT_PAINT": "Weight Paint",
+         "TEXTURE_PAINT": "Texture Paint", "PARTICLE_EDIT": "Particle Edit"}
+
+
+def mesh_problem(obj, context=None):
+    """One sentence when ``obj`` cannot be painted as an object (none, not a mesh, not in Object Mode, not in
+    ``context``'s view layer, its mesh shared with another object, no faces, no UV map), else None."""
+    if obj is None:
+        return "There is no active object: click the mesh object to paint, then press Paint Object."
+    if obj.type != "MESH":
+        kind = OBJECT_KINDS.get(obj.type, "a {} object".format(obj.type.lower().replace("_", " ")))
+        if obj.type in CONVERTIBLE:
+            return ("Object {} is {}: Paint Object paints meshes; convert it to a mesh (Object > Convert > Mesh) "
+                    "first.".format(obj.name, kind))
+        return "Object {} is {}, which has no surface to paint: Paint Object paints meshes.".format(obj.name, kind)
+    if obj.mode != "OBJECT":
+        return "Object {} is in {}: switch to Object Mode, then paint.".format(
+            obj.name, MODES.get(obj.mode, obj.mode.replace("_", " ").title()))
+    if context is not None and context.view_layer.objects.get(obj.name) is None:
+        return "Object {} is not in view layer {}: include its collection, then paint.".format(
+            obj.name, context.view_layer.name)
+    if obj.data.users > 1:
+        others = [other.name for other in bpy.data.objects if other.data == obj.data and other != obj]
+        if others:
+            return ("Object {} shares its mesh {} with {}: make it a single user (Object > Relation > Make Single "
+                    "User > Object & Data) to paint it alone.".format(
+                        obj.name, obj.data.name, "object " + others[0] if len(others) == 1 else
+                        "{} other objects".format(len(others))))
     if len(obj.data.polygons) == 0:
         return "Object {} has no faces to paint.".format(obj.name)
     if len(obj.data.uv_layers) == 0:
@@ -39,26 +71,59 @@ def uv_map_name(obj):
 
 def mesh_triangles(context, obj):
     """(uv (T, 3, 2) float64, position (T, 3, 3) float64 metres, material_index (T,) int32): the corners of the
-    object's mesh's loop triangles (its own mesh, before modifiers), UVs of ``uv_map_name``, positions in the
-    world (the object's transform and the scene's unit scale applied), and each triangle's material slot."""
-    mesh = obj.data
-    mesh.calc_loop_triangles()
-    count = len(mesh.loop_triangles)
-    loops = np.empty(count * 3, np.int32)
-    mesh.loop_triangles.foreach_get("loops", loops)
-    vertices = np.empty(count * 3, np.int32)
-    mesh.loop_triangles.foreach_get("vertices", vertices)
-    material_index = np.empty(count, np.int32)
-    mesh.loop_triangles.foreach_get("material_index", material_index)
-    uv = np.empty(len(mesh.loops) * 2, np.float32)
-    mesh.uv_layers[uv_map_name(obj)].data.foreach_get("uv", uv)
-    co = np.empty(len(mesh.vertices) * 3, np.float32)
-    mesh.vertices.foreach_get("co", co)
-    world = np.array(obj.matrix_world, np.float64)
+    loop triangles of the surface the user sees (``obj``'s mesh through its modifiers, shape keys and pose, the
+    relief modifiers of Paint Object left out when they are hidden), UVs of ``uv_map_name``, positions in the
+    world (the object's transform and the scene's unit scale applied), and each triangle's material slot.
+    ValueError (one sentence) when the modifiers leave no face or drop that UV map."""
+    name = uv_map_name(obj)
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        if len(mesh.polygons) == 0:
+            raise ValueError("Object {}'s modifiers leave it no faces to paint.".format(obj.name))
+        layer = mesh.uv_layers.get(name)
+        if layer is None:
+            raise ValueError("Object {}'s modifiers leave its surface without its UV map {}, which the texture "
+                             "is painted in.".format(obj.name, name))
+        mesh.calc_loop_triangles()
+        count = len(mesh.loop_triangles)
+        loops = np.empty(count * 3, np.int32)
+        mesh.loop_triangles.foreach_get("loops", loops)
+        vertices = np.empty(count * 3, np.int32)
+        mesh.loop_triangles.foreach_get("vertices", vertices)
+        material_index = np.empty(count, np.int32)
+        mesh.loop_triangles.foreach_get("material_index", material_index)
+        uv = np.empty(len(mesh.loops) * 2, np.float32)
+        layer.data.foreach_get("uv", uv)
+        co = np.empty(len(mesh.vertices) * 3, np.float32)
+        mesh.vertices.foreach_get("co", co)
+        world = np.array(evaluated.matrix_world, np.float64)
+    finally:
+        evaluated.to_mesh_clear()
     points = co.reshape(-1, 3).astype(np.float64) @ world[:3, :3].T + world[:3, 3]
     points *= context.scene.unit_settings.scale_length
-    return (uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2),
-            points[vertices].reshape(count, 3, 3), material_index)
+    corners = uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2)
+    position = points[vertices].reshape(count, 3, 3)
+    check_layout(obj, name, corners, position)
+    return corners, position, material_index
+
+
+def check_layout(obj, name, uv, position):
+    """ValueError (one sentence naming ``obj`` and its UV map ``name``) when no triangle of (T, 3, 2) ``uv`` and
+    (T, 3, 3) ``position`` has an area in UV space, or none an area on the surface (all faces on a point or a
+    line). UVs outside the square 0..1 are painted where Blender reads them (wrapped, or their UDIM tile)."""
+    u, v = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    uv_area = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
+    surface_area = np.linalg.norm(np.cross(position[:, 1] - position[:, 0], position[:, 2] - position[:, 0]),
+                                  axis=1) / 2
+    extent = np.ptp(position.reshape(-1, 3), axis=0).max()
+    has_surface = surface_area > 1e-12 * extent ** 2        # relative to the object's size: float32 rounding
+    has_uv = uv_area > 1e-12
+    if not np.any(has_uv):
+        raise ValueError("Object {}'s UV map {} has no area: its faces lie on a point or a line in UV space; unwrap "
+                         "it (Smart UV Project in the Paint Object panel), then paint.".format(obj.name, name))
+    if not np.any(has_surface):
+        raise ValueError("Object {}'s faces have no area to paint: they lie on a point or a line.".format(obj.name))
 
 
 def base_color_image(obj, materials=None):
@@ -83,6 +148,15 @@ def image_on_disk(image):
         return None
     path = os.path.normpath(bpy.path.abspath(image.filepath, library=image.library))
     return path if os.path.isfile(path) else None
+
+
+def missing_file(image):
+    """The absolute path of ``image``'s file when Blender should read it from disk (not packed, not generated)
+    and it is not there, else None."""
+    if image.packed_file is not None or image.source not in ("FILE", "SEQUENCE") or not image.filepath:
+        return None
+    path = os.path.normpath(bpy.path.abspath(image.filepath, library=image.library))
+    return None if os.path.isfile(path) or image.has_data else path
 
 
 def write_image(image, path):
@@ -112,10 +186,13 @@ def bake_diffuse_colours(context, obj, size, paths):
     engine, samples = scene.render.engine, scene.cycles.samples
     selected = [o for o in context.view_layer.objects if o.select_get()]
     active = context.view_layer.objects.active
+    hidden = obj.hide_get(), obj.hide_viewport, obj.hide_render     # Cycles bakes only what it sees
     targets = {material: bpy.data.images.new(BAKE_IMAGE_NAME, size, size, alpha=False) for material in paths}
     throwaway = None
     added, nodes_off = [], []
     try:
+        obj.hide_set(False)
+        obj.hide_viewport = obj.hide_render = False
         for material in {slot.material for slot in obj.material_slots if slot.material is not None}:
             if material.node_tree is None or not material.use_nodes:
                 nodes_off.append(material)
@@ -133,10 +210,16 @@ def bake_diffuse_colours(context, obj, size, paths):
             other.select_set(False)
         obj.select_set(True)
         context.view_layer.objects.active = obj
-        bpy.ops.object.bake(type="DIFFUSE", pass_filter={"COLOR"}, margin=8, use_clear=True)
+        try:
+            bpy.ops.object.bake(type="DIFFUSE", pass_filter={"COLOR"}, margin=8, use_clear=True)
+        except RuntimeError as error:
+            why = " ".join(str(error).replace("Error:", " ").split()).rstrip(".")
+            raise ValueError("Cycles could not bake the colour of object {}: {}.".format(obj.name, why)) from None
         for material, path in paths.items():
             write_image(targets[material], path)
     finally:
+        obj.hide_viewport, obj.hide_render = hidden[1:]
+        obj.hide_set(hidden[0])
         for material, node in added:
             material.node_tree.nodes.remove(node)
         for material in nodes_off:

@@ -65,21 +65,31 @@ def as_udim(image, tiles):
     image.reload()
 
 
-def write_atlas_uv(obj, atlas_uv, name):
-    """Write the (T, 3, 2) atlas UV coordinates ``atlas_uv`` of the loop triangles of ``obj``'s mesh into its UV
-    map ``name`` (made when missing; the maps Blender shows and renders with stay as they were); returns
-    ``name``."""
+def write_atlas_uv(obj, atlas, slot_source, uv_map, name):
+    """Write where each corner of ``obj``'s own mesh (before modifiers, which carry it on) lies in ``atlas``
+    (report.json's) into its UV map ``name`` (made when missing; the maps Blender shows and renders with stay as
+    they were), from its UV map ``uv_map`` and each face's source (``slot_source``: one per material slot);
+    returns ``name``."""
+    from ...core.surface.atlas import triangle_atlas_uv
+    from .sources import triangle_sources
+
     mesh = obj.data
+    mesh.calc_loop_triangles()
+    loops = np.empty(len(mesh.loop_triangles) * 3, np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    slots = np.empty(len(mesh.loop_triangles), np.int32)
+    mesh.loop_triangles.foreach_get("material_index", slots)
+    corners = np.empty(len(mesh.loops) * 2, np.float32)
+    mesh.uv_layers[uv_map].data.foreach_get("uv", corners)
+    triangles = corners.reshape(-1, 2)[loops].astype(np.float64).reshape(-1, 3, 2)
+    atlas_uv = triangle_atlas_uv(triangles, triangle_sources(slots, slot_source), None, atlas)
     layers = mesh.uv_layers
     active, rendered = layers.active_index, next((k for k, layer in enumerate(layers) if layer.active_render), 0)
     layer = layers.get(name) or layers.new(name=name, do_init=False)
     layers.active_index = active
     layers[rendered].active_render = True
-    mesh.calc_loop_triangles()
-    loops = np.empty(len(mesh.loop_triangles) * 3, np.int32)
-    mesh.loop_triangles.foreach_get("loops", loops)
     uv = np.zeros((len(mesh.loops), 2), np.float32)
-    uv[loops] = np.asarray(atlas_uv, np.float32).reshape(-1, 2)
+    uv[loops] = atlas_uv.astype(np.float32).reshape(-1, 2)
     layer.data.foreach_set("uv", uv.ravel())
     return name
 

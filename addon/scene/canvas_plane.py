@@ -154,9 +154,10 @@ def set_object_adaptive(scene, obj, enabled):
             scene.cycles.feature_set = "EXPERIMENTAL"
 
 
-def add_adaptive_subdivision(scene, obj):
-    """The canvas's Subdivision modifier ('SIMPLE') that Cycles dices adaptively at render time (updated in place)."""
-    modifier = obj.modifiers.get(SUBDIVISION_MODIFIER)
+def add_adaptive_subdivision(scene, obj, modifier=None):
+    """The canvas's Subdivision modifier ('SIMPLE') that Cycles dices adaptively at render time (updated in place;
+    ``modifier``, a Subdivision Surface modifier, when given)."""
+    modifier = obj.modifiers.get(SUBDIVISION_MODIFIER) if modifier is None else modifier
     if modifier is not None and modifier.type != "SUBSURF":
         obj.modifiers.remove(modifier)
         modifier = None
@@ -174,13 +175,14 @@ def add_adaptive_subdivision(scene, obj):
     return modifier
 
 
-def add_displace(obj, height_image, thickness):
+def add_displace(obj, height_image, thickness, modifier=None):
     """The canvas's Displace modifier moving vertices along +z by ``thickness`` x the height map (UV mapped).
 
-    An existing one is updated in place (its position in the stack stays);
-    each canvas has its own image texture.
+    An existing one is updated in place (its position in the stack stays):
+    ``modifier``, a Displace modifier, when given, else the one named
+    DISPLACE_MODIFIER; each canvas has its own image texture.
     """
-    modifier = obj.modifiers.get(DISPLACE_MODIFIER)
+    modifier = obj.modifiers.get(DISPLACE_MODIFIER) if modifier is None else modifier
     if modifier is not None and modifier.type != "DISPLACE":
         obj.modifiers.remove(modifier)
         modifier = None
