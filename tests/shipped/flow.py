@@ -407,7 +407,7 @@ def main(zip_path, work):
                     uv[loop].uv = (uv[loop].uv[0] + 1.0, uv[loop].uv[1])
         settings.object_output_dir = os.path.join(work, "tiles")
         settings.object_relief = "DISPLACE"
-        result, error = run_op(ops.paint_object)
+        result, error = run_op(ops.paint_object, texture_size=128)       # three cells of 128 texels
         folder = settings.object_output_dir
         displace = cube.modifiers.get("Paint Relief Displace")
         back, _ = run_op(ops.object_painting, show=False)
