@@ -88,7 +88,7 @@ def texture_sources(context, obj, file_path, size, scratch):
             kinds.append(kind)
         return known[key]
 
-    if not obj.material_slots and not file_path:
+    if not any(material is not None for material in materials) and not file_path:
         raise ValueError("Object {} has no material, so there is no colour to bake: give it a material or "
                          "choose a texture file.".format(obj.name))
     chosen = os.path.normpath(bpy.path.abspath(file_path)) if file_path else None
