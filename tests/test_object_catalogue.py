@@ -19,7 +19,7 @@ RELIEF = ["Paint Relief Normals", "Paint Relief Triangles", "Paint Relief Subdiv
 UNWRAP = "unwrap it (Smart UV Project in the Paint Object panel), then paint."
 
 PAINTED = ("uvs_overlapping", "uvs_outside_the_unit_square", "uvs_partly_outside",
-           "uvs_wholly_outside_the_unit_square", "zero_area_faces",
+           "uvs_wholly_outside_the_unit_square", "unused_empty_material_slot", "zero_area_faces",
            "concave_ngons", "one_triangle", "mesh_of_100k_faces", "negative_scale", "non_uniform_scale",
            "packed_image", "generated_image", "png_of_16_bits", "float_exr", "transparent_png",
            "material_with_use_nodes_off", "material_with_no_nodes", "no_material_painted_from_a_file",

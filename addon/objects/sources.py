@@ -92,7 +92,11 @@ def texture_sources(context, obj, file_path, size, scratch):
         raise ValueError("Object {} has no material, so there is no colour to bake: give it a material or "
                          "choose a texture file.".format(obj.name))
     chosen = os.path.normpath(bpy.path.abspath(file_path)) if file_path else None
-    for material in materials:
+    used = used_slots(obj)
+    for slot, material in enumerate(materials):
+        if material is None and slot not in used and len(materials) > 1:
+            slot_source.append(0)           # no face shows it: any source will do
+            continue
         image = base_color_image(obj, [material]) if material is not None else None
         if image is not None:
             slot_source.append(source_of(("image", image.name), lambda k, image=image: image_source(image, scratch,
@@ -105,8 +109,8 @@ def texture_sources(context, obj, file_path, size, scratch):
             slot_source.append(source_of(("colour", material.name),
                                          lambda k, material=material: (flat_colour(material, scratch, k), "colour")))
         elif material is None:
-            raise ValueError("Object {} has a material slot without a material, so there is no colour to paint: "
-                             "give it a material or choose a texture file.".format(obj.name))
+            raise ValueError("Object {}'s material slot {} holds no material, so its faces have no colour to "
+                             "paint: give it a material or choose a texture file.".format(obj.name, slot + 1))
         else:
             slot_source.append(source_of(("bake", material.name),
                                          lambda k, material=material: (baked.setdefault(
@@ -114,6 +118,14 @@ def texture_sources(context, obj, file_path, size, scratch):
     if baked:
         bake_diffuse_colours(context, obj, size, baked)
     return SourceSet(paths, kinds, slot_source)
+
+
+def used_slots(obj):
+    """The set of material slot indices some face of ``obj``'s mesh uses."""
+    polygons = obj.data.polygons
+    index = np.empty(len(polygons), np.int32)
+    polygons.foreach_get("material_index", index)
+    return set(np.unique(index).tolist())
 
 
 def triangle_sources(material_index, slot_source):

@@ -461,6 +461,13 @@ def empty_material_slot(settings):
 
 
 @case
+def unused_empty_material_slot(settings):
+    obj = textured(square("SpareSlot"))
+    obj.data.materials.append(None)                 # a slot no face uses, as imported models often have
+    return outcome("unused_empty_material_slot", obj)
+
+
+@case
 def texture_file_missing(settings):
     settings.object_texture_path = os.path.join(WORK, "nowhere", "picture.png")
     return outcome("texture_file_missing", cube("WantsAFile"))
