@@ -241,7 +241,8 @@ def test_ctrl_c_in_the_sample_script_is_one_sentence_and_nothing_half_written(ca
     if earlier:
         shutil.copytree(Path(catalogue["_work"]) / "earlier", out / "maps")
     before = {path: path.read_bytes() for path in out.rglob("*") if path.is_file()}
-    process, stdout, stderr = interrupted(["-o", out, "--texture-size", "1024", "--views", "2"], tmp_path)
+    # 2048 texels: the demo box paints for many seconds, so the signal 1.5 s in lands while it paints
+    process, stdout, stderr = interrupted(["-o", out, "--texture-size", "2048", "--views", "2"], tmp_path)
     assert process.returncode != 0 and "Traceback" not in stderr + stdout, stderr[-3000:]
     last = stderr.strip().splitlines()[-1]
     assert last in ("Painting Box was stopped: its maps were not written and the object is as it was.",
