@@ -148,6 +148,7 @@ def describe(model, out):
                                      and not os.path.isfile(bpy.path.abspath(image.filepath, library=image.library)))
     saved = os.path.join(out, model["name"], "original.blend")
     os.makedirs(os.path.dirname(saved), exist_ok=True)
+    bpy.ops.file.make_paths_absolute()      # the saved scene finds the model's images wherever it lies
     bpy.ops.wm.save_as_mainfile(filepath=saved, relative_remap=False)
     found["saved"] = saved
     found["seconds"] = round(time.perf_counter() - started, 2)
