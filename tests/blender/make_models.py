@@ -7,7 +7,9 @@ The scene: "Ball", a UV sphere whose Principled BSDF's Base Color reads chelsea.
 faces wear a material reading coffee.png and whose lower ones a material reading astronaut.png; "Floor", a plane
 with no material. Written as OUT_DIR/models.glb, models.gltf (+ .bin and the pictures beside it), models.obj (+
 .mtl, the pictures copied beside it) and models.fbx (pictures embedded). The OBJ holds no Floor: Blender's OBJ
-importer gives a mesh without a usemtl line the material read before it. Prints ``RESULTS <json>``.
+importer gives a mesh without a usemtl line the material read before it. Then OUT_DIR/shared.glb holds Ball and
+"Left" and "Right", two objects sharing the crate's mesh, and twins.glb those two alone. Prints
+``RESULTS <json>``.
 """
 
 import json
@@ -67,6 +69,19 @@ def export():
     bpy.ops.wm.obj_export(filepath=str(files["obj"]), path_mode="COPY", export_selected_objects=True)
     files["fbx"] = OUT / "models.fbx"
     bpy.ops.export_scene.fbx(filepath=str(files["fbx"]), path_mode="COPY", embed_textures=True)
+    crate = bpy.data.objects["Crate"]
+    for name, x in (("Left", 0.7), ("Right", 1.5)):     # two objects sharing the crate's mesh
+        twin = bpy.data.objects.new(name, crate.data)
+        twin.location = (x, 1.0, 0.0)
+        bpy.context.scene.collection.objects.link(twin)
+    bpy.ops.object.select_all(action="DESELECT")
+    for name in ("Ball", "Left", "Right"):
+        bpy.data.objects[name].select_set(True)
+    files["shared"] = OUT / "shared.glb"
+    bpy.ops.export_scene.gltf(filepath=str(files["shared"]), export_format="GLB", use_selection=True)
+    bpy.data.objects["Ball"].select_set(False)
+    files["twins"] = OUT / "twins.glb"
+    bpy.ops.export_scene.gltf(filepath=str(files["twins"]), export_format="GLB", use_selection=True)
     return {kind: str(path) for kind, path in files.items()}
 
 
