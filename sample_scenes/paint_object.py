@@ -19,9 +19,9 @@ is built (a box whose UV islands differ 4x in texel density) and its
 
 1. the scene is opened, imported (or built) and saved as it is, before any
    painting, as ``OUTDIR/original.blend``, and the extension loaded;
-2. Paint Object paints each object's texture into ``OUTDIR/maps`` (with
-   several objects, those not named by ``--object``: ``OUTDIR/maps/<object>``)
-   and gives the object its painted material and displaced relief;
+2. Paint Object paints each object's texture into ``OUTDIR/maps`` (painted
+   without ``--object``: ``OUTDIR/maps/<object>``) and gives the object its
+   painted material and displaced relief;
 3. a camera circles the painted objects (all of them framed) in V views under
    one raking sun, rendered by
    Cycles with the Vector pass three times: the painted object
