@@ -324,17 +324,28 @@ def _widths(text: str) -> tuple:
 def _add_object_parser(sub) -> None:
     """The ``object`` subcommand's options."""
     p = sub.add_parser(
-        "object", help="paint a mesh's texture in its UV space, strokes of one size on the surface",
+        "object", help="paint a mesh's texture in its UV space, strokes of one size on the surface; or a model "
+                       "file's meshes in Blender",
+        usage="%(prog)s TEXTURE [TEXTURE ...] --mesh MESH.obj -o OUTDIR [options]\n"
+              "       %(prog)s MODEL -o OUTDIR [--object NAME] [options]",
         description="Paint TEXTURE, the texture of the mesh MESH (a Wavefront OBJ file with texture coordinates, "
                     "positions in metres), island by island in its UV space: each UV island from its own texels, "
                     "strokes as wide in millimetres on every island. Writes the maps a still has, in UV space, and "
                     "report.json with each island's texel density and stroke widths. Several textures (one per "
-                    "material) or UDIM tiles are painted as one atlas, with each one's maps written too.")
+                    "material) or UDIM tiles are painted as one atlas, with each one's maps written too. "
+                    "Without --mesh, MODEL (a .glb, .gltf, .obj or .fbx file, or a .blend scene) is painted in "
+                    "Blender by sample_scenes/paint_object.py: imported by Blender's own importer, the object "
+                    "--object names painted (else every mesh object with a material), filmed on a turntable and "
+                    "saved as OUTDIR/scene.blend beside OUTDIR/original.blend, the scene before painting. The "
+                    "Blender is the one the environment variable PAINT_RELIEF_BLENDER names (a blender program or "
+                    "a Python with the bpy module), else this Python when it has the bpy module, else blender on "
+                    "the PATH.")
     p.add_argument("texture", metavar="TEXTURE", nargs="+",
                    help="the texture to paint (PNG, JPEG, TIFF, EXR, ...); several for a mesh of several materials, "
                         "the k-th for the OBJ's k-th material in the order its usemtl lines first name them; a "
-                        "path holding <UDIM> is a tiled image, one file per UDIM tile (color.<UDIM>.png)")
-    p.add_argument("--mesh", required=True, metavar="MESH.obj", help="the mesh whose UV map the texture follows")
+                        "path holding <UDIM> is a tiled image, one file per UDIM tile (color.<UDIM>.png); without "
+                        "--mesh, one MODEL file (.glb, .gltf, .obj, .fbx, .blend)")
+    p.add_argument("--mesh", default=None, metavar="MESH.obj", help="the mesh whose UV map the texture follows")
     p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
                    help="folder for the outputs (created if missing)")
     p.add_argument("--texture-size", type=_int, default=None, metavar="N",
@@ -350,13 +361,35 @@ def _add_object_parser(sub) -> None:
                         "across the UV seams where the surface does)")
     _add_stroke_options(p)
     _add_run_options(p)
+    model = p.add_argument_group("a MODEL file, painted in Blender (with --texture-size and --seed; the options "
+                                 "above apply to a TEXTURE and MESH)")
+    model.add_argument("--object", default=None, metavar="NAME",
+                       help="the mesh object to paint (default: every mesh object that has a material)")
+    model.add_argument("--views", type=_int, default=None, metavar="V", help="turntable views (default 24)")
+    model.add_argument("--samples", type=_int, default=None, metavar="S", help="Cycles samples (default 16)")
+    model.add_argument("--resolution", type=_int, default=None, metavar="PX",
+                       help="square render size of the turntable (default 384)")
+    model.add_argument("--relief", default=None, choices=("DISPLACE", "CYCLES_ADAPTIVE", "NORMAL_MAP"),
+                       help="how the paint's thickness shows on the object (default DISPLACE)")
     p.set_defaults(run=run_object, sizes=DEFAULTS.stroke_sizes)
 
 
-def run_object(args: argparse.Namespace, progress) -> None:
-    """The ``object`` subcommand."""
+def run_object(args: argparse.Namespace, progress) -> Optional[int]:
+    """The ``object`` subcommand: a texture and its mesh painted here, or a model file painted in Blender (its
+    exit status returned)."""
+    from . import blender
     from .api import paint_object
     from .heap import reused_heap
+
+    if args.mesh is None:
+        model = args.texture[0]
+        if len(args.texture) > 1 or not blender.is_model(model):
+            raise ParameterError(f"{model} is no model file (.glb, .gltf, .obj, .fbx, .blend): give the mesh of "
+                                 f"the texture{'s' if len(args.texture) > 1 else ''} with --mesh MESH.obj.")
+        if progress is not None:
+            progress.close()
+        return blender.paint_model(model, args.output, args.object, args.texture_size, args.seed, args.views,
+                                   args.samples, args.resolution, args.relief)
 
     with reused_heap():
         paint_object(args.texture[0] if len(args.texture) == 1 else args.texture, args.mesh, args.output, params_from_args(args), args.texture_size,
@@ -551,7 +584,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     restore = signals.install()
     quiet.enable()
     try:
-        args.run(args, console)
+        status = args.run(args, console)
     except signals.Interrupted as exc:
         return _fail(console, _interrupted_message(exc, args), exc.status)
     except Cancelled as exc:
@@ -561,13 +594,13 @@ def main(argv: Optional[List[str]] = None) -> int:
     except MemoryError:
         return _fail(console, "error: The machine ran out of memory; nothing was written.", 2)
     except PaintReliefError as exc:
-        return _fail(console, f"error: {exc}", 2)
+        return _fail(console, f"error: {exc}", getattr(exc, "status", 2))
     finally:
         quiet.enable(False)
         restore()
     if console is not None:
         console.close()
-    return 0
+    return status if isinstance(status, int) else 0
 
 
 def _folder_phrase(args: argparse.Namespace) -> str:

@@ -1,19 +1,29 @@
 """Paint an object's texture in its UV space, then film it on a turntable: relit as impasto, lit by the paper's
 2-D model, and with its original material.
 
-    blender -b --python-exit-code 1 --python sample_scenes/paint_object.py -- [SCENE.blend] --object NAME \\
+    blender -b --python-exit-code 1 --python sample_scenes/paint_object.py -- [MODEL] [--object NAME] \\
         -o OUTDIR [--texture-size N] [--views V] [--samples S] [--resolution PX] [--seed N] \\
         [--relief DISPLACE|CYCLES_ADAPTIVE|NORMAL_MAP]
-    .venv/bin/python sample_scenes/paint_object.py [SCENE.blend] --object NAME -o OUTDIR [options]
+    .venv/bin/python sample_scenes/paint_object.py [MODEL] [--object NAME] -o OUTDIR [options]
 
-With no SCENE, the demo scene of ``sample_scenes/object_scene.py`` is built
-(a box whose UV islands differ 4x in texel density) and its ``Box`` painted.
-Steps, each printed with its time:
+MODEL is a .blend scene, opened, or a model file, .glb, .gltf, .obj or .fbx,
+imported into an empty scene by Blender's own importer for its extension
+(``model_files.py``), as a user would. With ``--object NAME`` that object is
+painted. Without it, every mesh object that has a material is painted, each
+with Paint Object, one after another in name order; an object Paint Object
+refuses (a mesh shared with another object, say) has its sentence on stderr
+and the others are painted: the run succeeds when at least one object was
+painted. With no MODEL, the demo scene of ``sample_scenes/object_scene.py``
+is built (a box whose UV islands differ 4x in texel density) and its
+``Box`` painted. Steps, each printed with its time:
 
-1. the scene is opened (or built) and the extension loaded;
-2. Paint Object paints the object's texture into ``OUTDIR/maps`` and gives
-   the object its painted material and displaced relief;
-3. a camera circles the object in V views under one raking sun, rendered by
+1. the scene is opened, imported (or built) and saved as it is, before any
+   painting, as ``OUTDIR/original.blend``, and the extension loaded;
+2. Paint Object paints each object's texture into ``OUTDIR/maps`` (painted
+   without ``--object``: ``OUTDIR/maps/<object>``) and gives the object its
+   painted material and displaced relief;
+3. a camera circles the painted objects (all of them framed) in V views under
+   one raking sun, rendered by
    Cycles with the Vector pass three times: the painted object
    (``OUTDIR/turntable/relit/NNNN.png``), the object showing the paper's
    Eq. 6-7 applied in texture space (``lit_paper.png`` of the maps, as
@@ -26,8 +36,12 @@ Steps, each printed with its time:
    the colour step across the mesh's UV seams against the step across as
    many edges inside islands in the renders (``render_seam_steps``), and in
    the texture, source and painted (``texture_seam_steps``, the report's
-   "seam_steps");
-5. ``OUTDIR/scene.blend``.
+   "seam_steps"). Painted without ``--object``, "objects" names the objects
+   painted, "refused" gives each refused one's sentence, "per_object" holds
+   each one's maps folder, stroke widths, islands and texture seam steps, and
+   "islands" all the islands, each with its object; the films' figures cover
+   all painted objects together;
+5. ``OUTDIR/scene.blend``, the painted scene.
 
 The maps are written as the painter commits them: all together or not at
 all, over an earlier painting's in ``OUTDIR/maps`` and beside any other
@@ -50,6 +64,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from extension import extension_package  # noqa: E402 (the launcher's folder first)
+from model_files import ModelError, is_model, open_model  # noqa: E402
 
 FILMS = ("relit", "paper", "original")
 SEAM_OFFSET = 2.0
@@ -64,12 +79,16 @@ CAMERA_ELEVATION = 20.0
 
 def arguments(argv):
     parser = argparse.ArgumentParser(prog="paint_object.py", description=__doc__.splitlines()[0])
-    parser.add_argument("scene", nargs="?", type=Path, help="the .blend file holding the object (default: the demo)")
-    parser.add_argument("--object", default=None, metavar="NAME", help="the mesh object to paint (default: Box)")
+    parser.add_argument("scene", nargs="?", type=Path, metavar="MODEL",
+                        help="the .blend scene, or the .glb, .gltf, .obj or .fbx model, holding the objects "
+                             "(default: the demo)")
+    parser.add_argument("--object", default=None, metavar="NAME",
+                        help="the mesh object to paint (default: every mesh object that has a material; Box of "
+                             "the demo)")
     parser.add_argument("-o", "--output", type=Path, required=True, metavar="OUTDIR", help="folder for the results")
     parser.add_argument("--texture-size", type=int, default=2048, metavar="N",
-                        help="texels a side of the painted texture, one of the panel's Texture Size choices "
-                             "(default 2048)")
+                        help="texels a side of the painted texture, 64 to 16384; one of the panel's Texture Size "
+                             "choices (1024, 2048, 4096, 8192) is also set there (default 2048)")
     parser.add_argument("--views", type=int, default=24, metavar="V", help="turntable views (default 24)")
     parser.add_argument("--samples", type=int, default=16, metavar="S", help="Cycles samples (default 16)")
     parser.add_argument("--resolution", type=int, default=384, metavar="PX", help="square render size (default 384)")
@@ -87,7 +106,8 @@ class Failure(Exception):
 
 
 def open_scene(args):
-    """Open SCENE (or build the demo); return the object to paint."""
+    """Open SCENE, import the model or build the demo; return the objects to paint, in name order: the one
+    ``--object`` names (Box of the demo), else every mesh object of the scene that has a material."""
     import bpy
 
     if args.scene is None:
@@ -95,18 +115,47 @@ def open_scene(args):
         import object_scene
 
         obj = object_scene.build()
-        return bpy.data.objects[args.object or obj.name]
-    if not args.scene.is_file():
-        raise Failure(f"The scene {args.scene} does not exist.")
-    try:
-        bpy.ops.wm.open_mainfile(filepath=str(args.scene.resolve()))
-    except RuntimeError:
-        raise Failure(f"Blender {bpy.app.version_string} cannot open the scene {args.scene}: it is not a .blend file, "
-                      f"or one this Blender cannot read.") from None
-    name = args.object or "Box"
-    if name not in bpy.data.objects:
-        raise Failure(f"The scene {args.scene} has no object named {name}.")
-    return bpy.data.objects[name]
+        return [bpy.data.objects[args.object or obj.name]]
+    if is_model(args.scene):
+        try:
+            open_model(args.scene)
+        except ModelError as error:
+            raise Failure(str(error)) from None
+        kind = "model"
+    elif not args.scene.suffix.lower().startswith(".blend"):
+        raise Failure(f"The model {args.scene} is no file Blender imports here: give a .glb, .gltf, .obj or .fbx "
+                      f"file, or a .blend scene.")
+    else:
+        if not args.scene.is_file():
+            raise Failure(f"The scene {args.scene} does not exist.")
+        try:
+            bpy.ops.wm.open_mainfile(filepath=str(args.scene.resolve()))
+        except RuntimeError:
+            raise Failure(f"Blender {bpy.app.version_string} cannot open the scene {args.scene}: it is not a .blend "
+                          f"file, or one this Blender cannot read.") from None
+        kind = "scene"
+    if args.object is not None:
+        if args.object not in bpy.data.objects:
+            raise Failure(f"The {kind} {args.scene} has no object named {args.object}.")
+        return [bpy.data.objects[args.object]]
+    found = sorted((obj for obj in bpy.context.scene.objects
+                    if obj.type == "MESH" and any(slot.material for slot in obj.material_slots)),
+                   key=lambda obj: obj.name)
+    if not found:
+        raise Failure(f"The {kind} {args.scene} has no mesh object with a material, so there is nothing to paint: "
+                      f"give one a material, or name the object to paint with --object.")
+    return found
+
+
+def folder_name(name, taken):
+    """A folder name for the object ``name``: its name with any character a file system might refuse as "_",
+    made unique against ``taken`` (a set it is added to)."""
+    safe = "".join(c if c.isalnum() or c in "-_. " else "_" for c in name).strip(" .") or "object"
+    unique, k = safe, 2
+    while unique.lower() in taken:
+        unique, k = f"{safe}_{k}", k + 1
+    taken.add(unique.lower())
+    return unique
 
 
 def paint(obj, args, maps):
@@ -121,12 +170,13 @@ def paint(obj, args, maps):
     obj.select_set(True)
     bpy.context.view_layer.objects.active = obj
     settings = bpy.context.scene.paint_relief
-    settings.object_texture_size = str(args.texture_size)
+    if args.panel_size:
+        settings.object_texture_size = str(args.texture_size)
     settings.object_output_dir = str(maps)
     settings.seed = args.seed
     settings.object_relief = args.relief
     try:
-        result = bpy.ops.paint_relief.paint_object()
+        result = bpy.ops.paint_relief.paint_object(texture_size=0 if args.panel_size else args.texture_size)
     except RuntimeError as error:
         if "KeyboardInterrupt" in str(error):     # Ctrl-C before the painter ran: Blender's own traceback
             raise KeyboardInterrupt from None
@@ -137,15 +187,20 @@ def paint(obj, args, maps):
     return json.loads((maps / "report.json").read_text())
 
 
-def turntable(obj, args):
-    """A camera circling ``obj`` over frames 1..V (one view a frame, so the Vector pass holds its motion), one
-    raking sun, Cycles with the Vector pass into multilayer EXR; returns the scene."""
+def turntable(objects, args):
+    """A camera circling ``objects`` (a list; all in the picture: it turns about the centre of their bounding
+    boxes' corners in the world, at 3.2 times the farthest corner's distance) over frames 1..V (one view a frame,
+    so the Vector pass holds its motion), one raking sun, Cycles with the Vector pass into multilayer EXR; returns
+    the scene."""
     import bpy
     from mathutils import Vector
 
     scene = bpy.context.scene
-    corners = [obj.matrix_world @ Vector(corner) for corner in obj.bound_box]
-    centre = sum(corners, Vector()) / 8
+    corners = [obj.matrix_world @ Vector(corner) for obj in objects for corner in obj.bound_box]
+    if len(objects) == 1:
+        centre = sum(corners, Vector()) / len(corners)
+    else:
+        centre = Vector([(min(c[axis] for c in corners) + max(c[axis] for c in corners)) / 2 for axis in range(3)])
     radius = max((c - centre).length for c in corners)
     pivot = bpy.data.objects.new("Turntable", None)
     pivot.location = centre
@@ -357,12 +412,18 @@ def main(argv):
         times.append((name, time.perf_counter()))
         print(f"[{name}]", flush=True)
 
+    partial = out / "original.partial.blend"    # original.blend until the painted scene is saved beside it
     try:
         step("scene")
         import bpy
         import numpy as np
 
-        obj = open_scene(args)
+        objects = open_scene(args)
+        single = args.object is not None or args.scene is None
+        if out.exists() and not out.is_dir():
+            raise Failure(f"Cannot write to output folder {out}: a file of that name is in the way.")
+        out.mkdir(parents=True, exist_ok=True)
+        bpy.ops.wm.save_as_mainfile(filepath=str(partial), copy=True, check_existing=False)
         package = extension_package("PAINT_RELIEF_OT_paint_object")
         if not hasattr(bpy.types, "PAINT_RELIEF_OT_paint_object"):
             package.register()
@@ -370,38 +431,69 @@ def main(argv):
         object_material = importlib.import_module(package.__name__ + ".addon.objects.object_material")
         surface = importlib.import_module(package.__name__ + ".addon.objects.surface")
         choices = importlib.import_module(package.__name__ + ".addon.values").TEXTURE_SIZE_CHOICES
-        if args.texture_size not in choices:
-            raise Failure(f"The texture size must be one of {', '.join(map(str, choices))} texels, got "
+        args.panel_size = args.texture_size in choices
+        if not 64 <= args.texture_size <= 16384:
+            raise Failure(f"The texture size must be a whole number of texels from 64 to 16384, got "
                           f"{args.texture_size}.")
-        maps = out / "maps"
         step("paint")
-        report = paint(obj, args, maps)
+        painted, refused, taken = {}, {}, set()
+        for obj in objects:
+            maps = out / "maps" if single else out / "maps" / folder_name(obj.name, taken)
+            try:
+                painted[obj.name] = (obj, maps, paint(obj, args, maps))
+            except Failure as error:
+                if single or len(objects) == 1 or str(error).startswith(f"Painting {obj.name} was stopped"):
+                    raise
+                refused[obj.name] = str(error)
+                sys.stderr.write(f"{error}\n")
+        if not painted:
+            raise Failure(f"No object of {args.scene} was painted: Paint Object refused each of its "
+                          f"{len(objects)} mesh objects with a material, as said above.")
+        objects = [obj for obj, _, _ in painted.values()]
         step("renders")
-        scene = turntable(obj, args)
-        seams, inner = mesh_edges(obj)
+        scene = turntable(objects, args)
+        edges = [mesh_edges(obj) for obj in objects]
+        seams = np.concatenate([found[0] for found in edges])
+        inner = np.concatenate([found[1] for found in edges])
         inner = inner[random_choice(len(inner), len(seams), args.seed)]
         views = []
         films = {"relit": render_film(scene, out / "renders" / "relit", lambda frame: views.append(
             edge_views(scene, np.concatenate([seams, inner]))))}
-        object_material.show_painting(obj, False)
+        for obj in objects:
+            object_material.show_painting(obj, False)
         films["original"] = render_film(scene, out / "renders" / "original")
-        atlas = obj.data.uv_layers.get(object_material.ATLAS_UV_MAP)
-        paper = paper_material(maps, (atlas or obj.data.uv_layers[surface.uv_map_name(obj)]).name)
-        for slot in obj.material_slots:
-            slot.material = paper
+        for obj, maps, _ in painted.values():
+            atlas = obj.data.uv_layers.get(object_material.ATLAS_UV_MAP)
+            paper = paper_material(maps, (atlas or obj.data.uv_layers[surface.uv_map_name(obj)]).name)
+            for slot in obj.material_slots:
+                slot.material = paper
         films["paper"] = render_film(scene, out / "renders" / "paper")
-        object_material.show_painting(obj, True)
+        for obj in objects:
+            object_material.show_painting(obj, True)
         step("figures")
         statistics = film_statistics(core, films, out, views, len(seams))
-        summary = {"object": obj.name, "texture_size": args.texture_size, "views": args.views, "relief": args.relief,
-                   "stroke_mm": report["stroke_mm"], "islands": report["islands"],
-                   "texture_seam_steps": report["seam_steps"], **statistics}
+        common = {"texture_size": args.texture_size, "views": args.views, "relief": args.relief}
+        if single:
+            ((obj, _, report),) = painted.values()
+            summary = {"object": obj.name, **common, "stroke_mm": report["stroke_mm"], "islands": report["islands"],
+                       "texture_seam_steps": report["seam_steps"], **statistics}
+        else:
+            summary = {"objects": list(painted), "refused": refused, **common,
+                       "per_object": {name: {"maps": maps.relative_to(out).as_posix(),
+                                             "stroke_mm": report["stroke_mm"], "islands": report["islands"],
+                                             "texture_seam_steps": report["seam_steps"]}
+                                      for name, (_, maps, report) in painted.items()},
+                       "islands": [{"object": name, **island} for name, (_, _, report) in painted.items()
+                                   for island in report["islands"]], **statistics}
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")
         step("blend")
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)
+        partial.replace(out / "original.blend")
     except KeyboardInterrupt:   # Ctrl-C outside the painter (which says so in its own sentence)
         if created:
             shutil.rmtree(out, ignore_errors=True)
+        else:
+            partial.unlink(missing_ok=True)
         step = times[-1][0] if times else "scene"
         kept = (f"the folder {out} it made was removed" if created else
                 f"{out} holds what the steps before it wrote" if step not in ("scene", "paint") else f"{out} is as it was")
@@ -410,6 +502,8 @@ def main(argv):
     except Exception as error:  # a bad input or a failed step: one sentence
         if created:
             shutil.rmtree(out, ignore_errors=True)
+        elif out.is_dir():
+            partial.unlink(missing_ok=True)
         if type(error).__name__ not in ("Failure", "InputError", "OutputError", "ParameterError", "Cancelled"):
             raise
         sys.stderr.write(f"{error}\n")

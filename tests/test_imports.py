@@ -34,7 +34,7 @@ CORE_LAYERS = [
     ("figures", {"core.figures"}),
     ("api", {"core.api"}),
     ("evaluation", {"core.evaluation"}),
-    ("entry", {"core", "core.cli", "core.__main__"}),
+    ("entry", {"core", "core.cli", "core.__main__", "core.blender"}),
 ]
 
 # addon's layers, lowest first, by the same rule. The base is what every part shares (pure helpers, the painter's
