@@ -419,6 +419,7 @@ def main(argv):
         import numpy as np
 
         objects = open_scene(args)
+        shown_frame = bpy.context.scene.frame_current     # the pose the scenes are saved in
         single = args.object is not None or args.scene is None
         if out.exists() and not out.is_dir():
             raise Failure(f"Cannot write to output folder {out}: a file of that name is in the way.")
@@ -487,6 +488,7 @@ def main(argv):
                                    for island in report["islands"]], **statistics}
         (out / "object.json").write_text(json.dumps(summary, indent=2) + "\n")
         step("blend")
+        scene.frame_set(shown_frame)
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "scene.blend"), check_existing=False)
         partial.replace(out / "original.blend")
     except KeyboardInterrupt:   # Ctrl-C outside the painter (which says so in its own sentence)

@@ -177,11 +177,59 @@ def write_image(image, path):
     return path
 
 
+DIELECTRIC_INPUTS = ("Metallic", "Transmission Weight", "Transmission")
+
+
+def as_dielectric(material):
+    """Make every Principled BSDF of ``material`` dielectric and opaque (Metallic and Transmission 0, unlinked);
+    returns the functions that put each input back as it was."""
+    undo = []
+    tree = material.node_tree
+    for node in tree.nodes:
+        if node.bl_idname != "ShaderNodeBsdfPrincipled":
+            continue
+        for name in DIELECTRIC_INPUTS:
+            socket = node.inputs.get(name)
+            if socket is None:
+                continue
+            value, fed = socket.default_value, [link.from_socket for link in socket.links]
+            for link in list(socket.links):
+                tree.links.remove(link)
+            socket.default_value = 0.0
+
+            def put_back(socket=socket, value=value, fed=fed):
+                socket.default_value = value
+                for from_socket in fed:
+                    tree.links.new(from_socket, socket)
+            undo.append(put_back)
+    return undo
+
+
+def check_not_black(obj, material, image):
+    """ValueError (one sentence) when ``image``, ``material``'s bake on ``obj``, is black everywhere though the
+    colour its surface shader is given is not (linked to something, or a colour that is not black)."""
+    from .paint_layer import SHADER_COLOUR, surface_shaders
+
+    pixels = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(pixels)
+    if pixels.reshape(-1, 4)[:, :3].max(initial=0.0) > 1.0 / 255.0:
+        return
+    for shader in surface_shaders(material.node_tree):
+        colour = shader.inputs[SHADER_COLOUR[shader.bl_idname]]
+        if colour.links or max(colour.default_value[:3]) > 1.0 / 255.0:
+            raise ValueError("The colour of material {} on object {} bakes black everywhere, though its {} is "
+                             "not black: check what feeds it, or choose a texture file.".format(
+                                 material.name, obj.name, colour.name))
+
+
 def bake_diffuse_colours(context, obj, size, paths):
     """Bake ``obj``'s diffuse colour (Cycles, DIFFUSE with COLOR only) in its UV layout, each material of the
     dict ``paths`` into its own ``size`` x ``size`` image written to the PNG ``paths[material]`` (one bake: the
-    faces of the object's other materials go to a target thrown away). The scene's render engine and samples,
-    the selection and the materials are as they were afterwards."""
+    faces of the object's other materials go to a target thrown away). A metal's or glass's colour bakes too:
+    its Principled BSDFs are dielectric and opaque for the bake (Cycles' diffuse colour is the base colour
+    times 1 - metallic, times 1 - transmission). ValueError (one sentence) when a material whose colour is
+    not black bakes black everywhere. The scene's render engine and samples, the selection and the materials
+    are as they were afterwards."""
     scene = context.scene
     engine, samples = scene.render.engine, scene.cycles.samples
     selected = [o for o in context.view_layer.objects if o.select_get()]
@@ -189,7 +237,7 @@ def bake_diffuse_colours(context, obj, size, paths):
     hidden = obj.hide_get(), obj.hide_viewport, obj.hide_render     # Cycles bakes only what it sees
     targets = {material: bpy.data.images.new(BAKE_IMAGE_NAME, size, size, alpha=False) for material in paths}
     throwaway = None
-    added, nodes_off = [], []
+    added, nodes_off, undo_dielectric = [], [], []
     try:
         obj.hide_set(False)
         obj.hide_viewport = obj.hide_render = False
@@ -204,6 +252,8 @@ def bake_diffuse_colours(context, obj, size, paths):
             node.image = targets.get(material, throwaway)
             material.node_tree.nodes.active = node
             added.append((material, node))
+            if material in targets:
+                undo_dielectric.extend(as_dielectric(material))
         scene.render.engine = "CYCLES"
         scene.cycles.samples = 1
         for other in selected:
@@ -216,8 +266,11 @@ def bake_diffuse_colours(context, obj, size, paths):
             why = " ".join(str(error).replace("Error:", " ").split()).rstrip(".")
             raise ValueError("Cycles could not bake the colour of object {}: {}.".format(obj.name, why)) from None
         for material, path in paths.items():
+            check_not_black(obj, material, targets[material])
             write_image(targets[material], path)
     finally:
+        for undo in reversed(undo_dielectric):
+            undo()
         obj.hide_viewport, obj.hide_render = hidden[1:]
         obj.hide_set(hidden[0])
         for material, node in added:

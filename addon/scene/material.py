@@ -112,26 +112,28 @@ def update_material(material, images, thickness, connect_displacement):
     return True
 
 
-def build_material(material, images, thickness, connect_displacement, normal_map=False, uv_map="UVMap"):
+def build_material(material, images, thickness, connect_displacement, normal_map=False, uv_map="UVMap",
+                   extension="EXTEND"):
     """Fill ``material``'s node tree with the canvas shader; return the tree.
 
     thickness: metres of paint of height 1. connect_displacement: link the
     Displacement node to the material output (CYCLES_ADAPTIVE) or leave it
     unconnected (MESH, where the geometry is displaced already). normal_map:
     shade with the painter's normal map (``images`` holds it then), whose tangents follow the UV map ``uv_map``
-    (the one the maps are read through: Blender renders with it). Earlier
+    (the one the maps are read through: Blender renders with it). ``extension``: how the maps are read beyond
+    0..1 (the Image Texture extension; an object's UVs may lie in other unit squares). Earlier
     Paint Relief nodes and Blender's default nodes are replaced; nodes the
     user added stay. The nodes made here carry OWN_NODE_KEY, and the ones
     :func:`update_material` needs are named NODE_PREFIX + role.
     """
     tree = _cleared_tree(material)
     before = set(tree.nodes)
-    uv, colour, height, opacity = _map_nodes(tree, images)
+    uv, colour, height, opacity = _map_nodes(tree, images, extension)
     bsdf, output = _surface(tree, colour)
     _roughness_from_opacity(tree, opacity, bsdf)
     bump = _fine_bump(tree, _paint_and_weave_height(tree, uv, height, opacity), thickness)
     if normal_map:
-        _normal_map(tree, uv, images[values.NORMAL_MAP], bump, thickness, uv_map)
+        _normal_map(tree, uv, images[values.NORMAL_MAP], bump, thickness, uv_map, extension)
     _link(tree, bump.outputs["Normal"], bsdf.inputs["Normal"])
     displacement = _displacement(tree, height, output, thickness, connect_displacement)
     for node, name in ((colour, "Colour"), (height, "Height"), (opacity, "Opacity"), (bump, "Bump"),
@@ -151,12 +153,12 @@ def _link(tree, from_socket, to_socket):
     tree.links.new(from_socket, to_socket)
 
 
-def _image_node(nodes, image, label, interpolation, location):
+def _image_node(nodes, image, label, interpolation, location, extension="EXTEND"):
     node = nodes.new("ShaderNodeTexImage")
     node.image = image
     node.label = label
     node.interpolation = interpolation
-    node.extension = "EXTEND"
+    node.extension = extension
     node.location = location
     return node
 
@@ -186,14 +188,14 @@ def _cleared_tree(material):
     return tree
 
 
-def _map_nodes(tree, images):
+def _map_nodes(tree, images, extension):
     """The texture coordinates and the colour, height and opacity image nodes reading them by UV."""
     nodes = tree.nodes
     uv = nodes.new("ShaderNodeTexCoord")
     uv.location = (-1300, 0)
-    colour = _image_node(nodes, images[values.COLOR_MAP], "Colour", "Linear", (-1000, 400))
-    height = _image_node(nodes, images[values.HEIGHT_MAP], "Height", "Cubic", (-1000, -300))
-    opacity = _image_node(nodes, images[values.OPACITY_MAP], "Opacity", "Linear", (-1000, 50))
+    colour = _image_node(nodes, images[values.COLOR_MAP], "Colour", "Linear", (-1000, 400), extension)
+    height = _image_node(nodes, images[values.HEIGHT_MAP], "Height", "Cubic", (-1000, -300), extension)
+    opacity = _image_node(nodes, images[values.OPACITY_MAP], "Opacity", "Linear", (-1000, 50), extension)
     for node in (colour, height, opacity):
         _link(tree, uv.outputs["UV"], node.inputs["Vector"])
     return uv, colour, height, opacity
@@ -263,10 +265,10 @@ def _fine_bump(tree, surface, thickness):
     return bump
 
 
-def _normal_map(tree, uv, image, bump, thickness, uv_map):
+def _normal_map(tree, uv, image, bump, thickness, uv_map, extension):
     """The painter's tangent-space normals (normal.exr ``image``) under ``bump``: they shade a flat plane and
     the weave bump stacks on top (switched off for paint of no thickness)."""
-    normal_image = _image_node(tree.nodes, image, "Normal", "Linear", (-1000, -1050))
+    normal_image = _image_node(tree.nodes, image, "Normal", "Linear", (-1000, -1050), extension)
     _link(tree, uv.outputs["UV"], normal_image.inputs["Vector"])
     normal = tree.nodes.new("ShaderNodeNormalMap")
     normal.location = (-600, -1000)

@@ -434,7 +434,8 @@ class PaintReliefSettings(PropertyGroup):
         items=(
             ("DISPLACE", "Displace", "Modifiers after the object's own subdivide it and move the surface along "
              "its normals by the paint's height, keeping its shape and its smooth or flat shading"),
-            ("NORMAL_MAP", "Normal Map", "The painter's normal map shades the surface; its geometry stays"),
+            ("NORMAL_MAP", "Normal Map", "The painter's normal map shades the surface (over a material's own "
+             "normal map, the paint's height as a bump); its geometry stays"),
             ("CYCLES_ADAPTIVE", "Cycles Displacement", "Cycles moves the surface along its normals by the "
              "material's Displacement at render time, subdivided adaptively (renders in Cycles only)"),
         ),
