@@ -2,9 +2,24 @@
 (ALGORITHM §10, objects of several textures).
 
 A mesh's triangle is painted from source k (``SurfaceMesh.source``). A plain
-source is one image over the UV square 0..1 and repeats beyond it (Blender's
-REPEAT extension): a triangle lying in another unit square is moved back by
-the whole-number part of its UV centroid. A tiled source (a path holding
+source is one image over the UV square 0..1; beyond it the source's
+extension rule (``EXTENSIONS``, the ``extension`` of Blender's Image Texture
+node) says what a renderer shows, and so where the triangle is painted:
+
+- REPEAT (the default): the image repeats; a triangle lying in another unit
+  square is moved back by the whole-number part of its UV centroid.
+- MIRROR: the image repeats mirrored, every other unit square flipped; a
+  triangle is moved back as under REPEAT and, in a square of odd floor u
+  (floor v), mirrored in u (v) within it: u - s becomes 1 - (u - s).
+- CLIP: nothing is shown outside the square 0..1, so a triangle stays where
+  it lies: only its part inside 0..1 is painted, and one wholly outside
+  covers no texel.
+- EXTEND: the renderer clamps the UV into 0..1, so the parts outside show
+  the border texels stretched; painting them would only smear strokes along
+  the border, so they are left as under CLIP: only the part of a triangle
+  inside 0..1 is painted.
+
+A tiled source (a path holding
 ``UDIM_TOKEN``, Blender's UDIM) is one image per unit square: the triangle's
 tile is 1001 + floor(u) + 10 floor(v) of its UV centroid, for u in 0..10 and
 v >= 0, and its UV within the tile is wrapped alike.
@@ -26,13 +41,18 @@ from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, ParameterError
 
 UDIM_TOKEN = "<UDIM>"
 """The token of a tiled source's path that stands for the tile's number, as Blender writes it."""
 
 FIRST_TILE = 1001
 """The UDIM number of the tile over UV 0..1 x 0..1; u steps by 1 up to 10 tiles, v by 10."""
+
+REPEAT, EXTEND, CLIP, MIRROR = "REPEAT", "EXTEND", "CLIP", "MIRROR"
+EXTENSIONS = (REPEAT, EXTEND, CLIP, MIRROR)
+"""A plain source's rules beyond the UV square 0..1, named as Blender's Image Texture node names its
+``extension`` (module docstring)."""
 
 
 class Cell(NamedTuple):
@@ -52,6 +72,7 @@ class Atlas(NamedTuple):
     rows: int
     cell: np.ndarray            # (T,) int64: the cell 0 .. len(cells) - 1 of each triangle
     uv: np.ndarray              # (T, 3, 2) float64: the triangles' corners in the atlas square 0..1
+    extensions: Tuple[str, ...] = ()    # one per source: its rule beyond 0..1 (``EXTENSIONS``); () all REPEAT
 
 
 def is_tiled(path) -> bool:
@@ -69,14 +90,42 @@ def cell_file_suffix(cell: Cell) -> str:
     return f".s{cell.source}" if cell.tile is None else f".s{cell.source}.{cell.tile}"
 
 
-def wrapped(uv: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """((T, 3, 2) float64, (T, 2) int64): the triangles ``uv`` (T, 3, 2) moved by the whole-number part of their
-    UV centroids, and that part (floor u, floor v)."""
+def checked_extensions(extensions: Optional[Sequence[str]], count: int) -> Tuple[str, ...]:
+    """The rules (``EXTENSIONS``, upper case) of ``count`` sources from ``extensions`` (None: all REPEAT; one rule
+    stands for every source); ParameterError in one sentence for an unknown rule or a list of another length."""
+    if extensions is None:
+        return (REPEAT,) * count
+    if isinstance(extensions, str):
+        extensions = [extensions] * count
+    rules = tuple(str(rule).upper() for rule in extensions)
+    unknown = [rule for rule in rules if rule not in EXTENSIONS]
+    if unknown:
+        raise ParameterError(f"A texture's extension must be one of {', '.join(EXTENSIONS)}, got {unknown[0]!r}.")
+    if len(rules) == 1 and count > 1:
+        rules = rules * count
+    if len(rules) != count:
+        raise ParameterError(f"Give one extension for each of the {count} texture{'s' if count != 1 else ''} or "
+                             f"one for all, got {len(rules)}.")
+    return rules
+
+
+def wrapped(uv: np.ndarray, rule: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
+    """((T, 3, 2) float64, (T, 2) int64): the triangles ``uv`` (T, 3, 2) moved into the unit square where their
+    source's image shows them, and the whole-number part (floor u, floor v) of their UV centroids. ``rule`` (T,)
+    of ``EXTENSIONS`` (None: all REPEAT): REPEAT moves a triangle back by that part, MIRROR too and mirrors it
+    within the square where that part is odd, CLIP and EXTEND leave it where it lies (module docstring)."""
     uv = np.asarray(uv, np.float64)
     shift = np.floor(uv.mean(axis=1)).astype(np.int64)
-    if not shift.any():
-        return uv, shift
-    return uv - shift[:, None, :], shift
+    if rule is None:
+        if not shift.any():
+            return uv, shift
+        return uv - shift[:, None, :], shift
+    rule = np.asarray(rule)
+    kept = (rule == CLIP) | (rule == EXTEND)
+    moved = uv - np.where(kept[:, None], 0, shift)[:, None, :]
+    flip = (rule == MIRROR)[:, None] & (shift % 2 == 1)             # (T, 2): mirrored in u, in v
+    moved = np.where(flip[:, None, :], 1.0 - moved, moved)
+    return moved, shift
 
 
 def triangle_tiles(shift: np.ndarray, source: np.ndarray, tiled: Sequence[bool]) -> np.ndarray:
@@ -98,18 +147,30 @@ def grid_side(count: int) -> int:
     return max(1, math.isqrt(max(count, 1) - 1) + 1)
 
 
-def build_atlas(uv: np.ndarray, source: Optional[np.ndarray], tiled: Sequence[bool]) -> Atlas:
+def triangle_rules(source: np.ndarray, tiled: Sequence[bool], extensions: Optional[Sequence[str]]):
+    """(T,) str or None: the rule (``EXTENSIONS``) each triangle of ``source`` (T,) is wrapped by: its source's
+    ``extensions[k]``, REPEAT for a tiled source (its tiles are wrapped alike); None when every rule is REPEAT."""
+    if extensions is None or all(rule == REPEAT for rule in extensions):
+        return None
+    rules = np.array([REPEAT if tiled[k] else extensions[k] for k in range(len(extensions))])
+    return rules[source]
+
+
+def build_atlas(uv: np.ndarray, source: Optional[np.ndarray], tiled: Sequence[bool],
+                extensions: Optional[Sequence[str]] = None) -> Atlas:
     """The atlas (module docstring) of triangles ``uv`` (T, 3, 2) painted from the sources ``source`` (T,) int
-    (None: all 0), of which ``tiled[k]`` says whether source k is tiled."""
+    (None: all 0), of which ``tiled[k]`` says whether source k is tiled and ``extensions[k]`` (``EXTENSIONS``;
+    None: all REPEAT) what its image shows beyond the UV square 0..1."""
     source = np.zeros(len(uv), np.int64) if source is None else np.asarray(source, np.int64)
-    moved, shift = wrapped(uv)
+    extensions = checked_extensions(extensions, len(tiled))
+    moved, shift = wrapped(uv, triangle_rules(source, tiled, extensions))
     tile = triangle_tiles(shift, source, tiled)
     keys, cell = np.unique(np.stack([source, tile], axis=1), axis=0, return_inverse=True)
     side = grid_side(len(keys))
     cells = tuple(Cell(int(k), None if not tiled[int(k)] else int(t), i % side, i // side)
                   for i, (k, t) in enumerate(keys))
     cell = cell.reshape(-1).astype(np.int64)
-    return Atlas(cells, side, side, cell, placed_uv(moved, cell, cells, side, side))
+    return Atlas(cells, side, side, cell, placed_uv(moved, cell, cells, side, side), extensions)
 
 
 def placed_uv(moved: np.ndarray, cell: np.ndarray, cells: Sequence[Cell], columns: int, rows: int) -> np.ndarray:
@@ -122,25 +183,31 @@ def placed_uv(moved: np.ndarray, cell: np.ndarray, cells: Sequence[Cell], column
 
 
 def triangle_atlas_uv(mesh_uv: np.ndarray, source: Optional[np.ndarray], tiled: Optional[Sequence[bool]],
-                      atlas: Union[Atlas, dict]) -> np.ndarray:
+                      atlas: Union[Atlas, dict], extensions: Optional[Sequence[str]] = None) -> np.ndarray:
     """(T, 3, 2) float64: the atlas UV of triangles ``mesh_uv`` (T, 3, 2) painted from ``source`` (T,) int (None:
     all 0), ``tiled[k]`` whether source k is tiled (None: as the atlas's cells say, a source with a tile numbered
     being tiled), in the atlas ``atlas``: an ``Atlas`` or report.json's "atlas" ({"columns", "rows", "cells":
-    [{"source", "tile", "column", "row"}, ...]}), as the Blender side reads it to write the atlas UV layer its
-    Displace modifier uses. InputError in one sentence for a triangle whose (source, tile) the atlas has no cell
-    of."""
+    [{"source", "tile", "column", "row", "extension"}, ...]}), as the Blender side reads it to write the atlas UV
+    layer its Displace modifier uses. ``extensions[k]``: source k's rule beyond 0..1 (None: as the atlas says, a
+    cell without "extension" REPEAT). InputError in one sentence for a triangle whose (source, tile) the atlas
+    has no cell of."""
     if isinstance(atlas, Atlas):
         cells, columns, rows = atlas.cells, atlas.columns, atlas.rows
+        named = dict(enumerate(atlas.extensions))
     else:
         cells = tuple(Cell(int(c["source"]), None if c["tile"] is None else int(c["tile"]), int(c["column"]),
                            int(c["row"])) for c in atlas["cells"])
         columns, rows = int(atlas["columns"]), int(atlas["rows"])
+        named = {int(c["source"]): str(c.get("extension", REPEAT)) for c in atlas["cells"]}
     source = np.zeros(len(mesh_uv), np.int64) if source is None else np.asarray(source, np.int64)
     if tiled is None:
         tiled = [False] * (int(max([c.source for c in cells] + [int(source.max(initial=0))])) + 1)
         for c in cells:
             tiled[c.source] = tiled[c.source] or c.tile is not None
-    moved, shift = wrapped(mesh_uv)
+    if extensions is None:
+        extensions = [named.get(k, REPEAT) for k in range(len(tiled))]
+    extensions = checked_extensions(extensions, len(tiled))
+    moved, shift = wrapped(mesh_uv, triangle_rules(source, tiled, extensions))
     tile = triangle_tiles(shift, source, tiled)
     index: Dict[Tuple[int, int], int] = {(c.source, 0 if c.tile is None else c.tile): i for i, c in enumerate(cells)}
     keys, inverse = np.unique(np.stack([source, tile], axis=1), axis=0, return_inverse=True)
@@ -171,8 +238,12 @@ def composed(atlas: Atlas, pictures: List[np.ndarray], size: int, fill: Sequence
 
 
 def atlas_figures(atlas: Atlas, paths: Sequence, size: int, files: List[Dict[str, str]]) -> dict:
-    """The report's "atlas": the grid, the texels of a cell's side, and each cell's source, file, tile, place and
-    map files ``files[i]`` ({"color": name, "height": name, "opacity": name, ...})."""
+    """The report's "atlas": the grid, the texels of a cell's side, and each cell's source, file, tile, place, rule
+    beyond the UV square 0..1 ("extension", ``EXTENSIONS``: REPEAT for a tile) and map files ``files[i]``
+    ({"color": name, "height": name, "opacity": name, ...})."""
+    rules = atlas.extensions or (REPEAT,) * (max(c.source for c in atlas.cells) + 1)
     return {"columns": atlas.columns, "rows": atlas.rows, "tile_texels": int(size),
             "cells": [{"source": c.source, "path": tile_path(paths[c.source], c.tile), "tile": c.tile,
-                       "column": c.column, "row": c.row, "files": files[i]} for i, c in enumerate(atlas.cells)]}
+                       "column": c.column, "row": c.row,
+                       "extension": REPEAT if c.tile is not None else rules[c.source], "files": files[i]}
+                      for i, c in enumerate(atlas.cells)]}

@@ -303,8 +303,8 @@ def check_layout(texture: np.ndarray, layout: SurfaceLayout) -> None:
         raise InputError(f"The texture is {texture.shape[1]} x {texture.shape[0]} texels and its island map "
                          f"{layout.islands.shape[1]} x {layout.islands.shape[0]}: both must be the same square.")
     if not (layout.islands != NO_ISLAND).any():
-        raise InputError("No face of the mesh covers a texel of the texture: its UV map is empty or lies outside "
-                         "the square 0..1.")
+        raise InputError("No face of the mesh covers a texel of the texture: its UV map is empty, or lies outside "
+                         "the square 0..1 where its image does not repeat (Clip or Extend).")
     present = np.unique(layout.islands[layout.islands != NO_ISLAND])
     density = layout.density.island[present - 1]
     if not (np.isfinite(density) & (density > 0)).all():
