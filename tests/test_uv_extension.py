@@ -72,16 +72,30 @@ def test_under_mirror_a_triangle_in_an_odd_unit_square_is_painted_mirrored_in_u(
     assert np.array_equal(covered(below, "MIRROR"), expected_texels(BACK))
 
 
+CROSSING = (("0.8", "0.2"), ("1.6", "0.2"), ("1.6", "0.8"))
+"""A triangle over u 0.8..1.6, its centroid at u 1.33."""
+
+
 def test_a_triangle_crossing_u_1_under_clip_paints_only_its_part_inside():
-    """Centroid at u 1.33: REPEAT moves it back by one (its part beyond u 1 lands at 0..0.6), CLIP leaves it where
-    it lies, so only its texels of u 0.8..1 are painted."""
-    crossing = (("0.8", "0.2"), ("1.6", "0.2"), ("1.6", "0.8"))
-    inside = expected_texels(crossing)
+    inside = expected_texels(CROSSING)
     assert inside.any() and not inside[:, :8].any()             # columns 8 and 9: u 0.85 and 0.95
-    assert np.array_equal(covered(crossing, "CLIP"), inside)
-    assert np.array_equal(covered(crossing, "EXTEND"), inside)
-    moved = tuple((str(Fraction(u) - 1), v) for u, v in crossing)
-    assert np.array_equal(covered(crossing, "REPEAT"), expected_texels(moved))
+    assert np.array_equal(covered(CROSSING, "CLIP"), inside)
+    assert np.array_equal(covered(CROSSING, "EXTEND"), inside)
+
+
+def test_a_triangle_crossing_u_1_under_repeat_paints_both_parts_where_the_repeated_image_shows_them():
+    """Texel p shows the surface at u p and p + 1: its part of u 0.8..1 at 0.8..1, its part of u 1..1.6 at 0..0.6."""
+    moved = tuple((str(Fraction(u) - 1), v) for u, v in CROSSING)
+    here, beyond = expected_texels(CROSSING), expected_texels(moved)
+    assert here.any() and beyond.any() and not (here & beyond).any()
+    assert np.array_equal(covered(CROSSING, "REPEAT"), here | beyond)
+
+
+def test_a_triangle_crossing_u_1_under_mirror_paints_its_part_beyond_mirrored():
+    """Mirrored, texel p shows the surface at u p and 2 - p: its part of u 1..1.6 at 0.4..1, over the part of u
+    0.8..1 at 0.8..1."""
+    mirrored = tuple((str(2 - Fraction(u)), v) for u, v in CROSSING)
+    assert np.array_equal(covered(CROSSING, "MIRROR"), expected_texels(CROSSING) | expected_texels(mirrored))
 
 
 def test_a_plane_at_u_1_to_2_paints_the_bytes_of_0_to_1_under_repeat_and_is_one_sentence_under_clip(tmp_path):
@@ -163,3 +177,17 @@ def test_core_object_takes_an_extension_and_refuses_a_clipped_map_beyond_the_squ
     assert not (tmp_path / "clip").exists()
     run = command(tmp_path / "a.png", "--mesh", tmp_path / "far.obj", "-o", tmp_path / "bad", "--extension", "WRAP")
     assert run.returncode == 2 and "must be one of REPEAT, EXTEND, CLIP, MIRROR" in run.stderr
+
+
+def test_one_face_over_u_quarter_to_one_and_a_quarter_under_repeat_paints_every_column(tmp_path):
+    """Both triangles of the quad cross u 1; repeated, the texture's rows of v 0.25..0.75 show the face at every u
+    (u 0.25..1 and, past u 1, 0..0.25), so every texel there is painted; clipped, only u 0.25..1 is."""
+    write_png(tmp_path / "paint.png", blocks(15), bits=16)
+    quad = grid(0.25, 1.25, 0.25, 0.75, 1, 1)
+    rows = slice(TILE // 4 + 1, 3 * TILE // 4 - 1)
+    for rule in ("REPEAT", "CLIP"):
+        api.paint_object(tmp_path / "paint.png", quad, tmp_path / rule, Params(seed=6), TILE, STROKES,
+                         extensions=rule)
+    repeated, clipped = (read_exr(tmp_path / rule / "opacity.exr")[0][rows, :, 0] for rule in ("REPEAT", "CLIP"))
+    assert repeated.min() > 0
+    assert clipped[:, TILE // 4 + 1:].min() > 0 and clipped[:, :TILE // 8].max() == 0

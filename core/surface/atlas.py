@@ -73,6 +73,8 @@ class Atlas(NamedTuple):
     cell: np.ndarray            # (T,) int64: the cell 0 .. len(cells) - 1 of each triangle
     uv: np.ndarray              # (T, 3, 2) float64: the triangles' corners in the atlas square 0..1
     extensions: Tuple[str, ...] = ()    # one per source: its rule beyond 0..1 (``EXTENSIONS``); () all REPEAT
+    repeats: Optional[np.ndarray] = None    # (T,) int8: 1 where a triangle's image repeats past its cell (REPEAT of
+    #                                         a plain source), 2 mirrored (MIRROR), 0 where it does not; None: all 0
 
 
 def is_tiled(path) -> bool:
@@ -170,7 +172,51 @@ def build_atlas(uv: np.ndarray, source: Optional[np.ndarray], tiled: Sequence[bo
     cells = tuple(Cell(int(k), None if not tiled[int(k)] else int(t), i % side, i // side)
                   for i, (k, t) in enumerate(keys))
     cell = cell.reshape(-1).astype(np.int64)
-    return Atlas(cells, side, side, cell, placed_uv(moved, cell, cells, side, side), extensions)
+    repeats = np.array([0 if tiled[k] else {REPEAT: 1, MIRROR: 2}.get(extensions[k], 0)
+                        for k in range(len(tiled))], np.int8)[source]
+    return Atlas(cells, side, side, cell, placed_uv(moved, cell, cells, side, side), extensions, repeats)
+
+
+MOST_REPEATS = 3
+"""The unit squares a side a triangle may reach over and still be painted in each (``repeated_parts``): one that
+reaches over more (a face spanning many repeats of a tiling image) is painted in its centroid's square alone."""
+
+
+def repeated_parts(atlas: Atlas) -> Tuple[np.ndarray, np.ndarray]:
+    """(triangle (C,) int64, uv (C, 3, 2) float64): the parts of the atlas's triangles that reach past their unit
+    square under a repeating image, each as a copy of its triangle placed where the image shows it in the cell.
+
+    A triangle of a plain REPEAT source that crosses its square's border (its centroid's, the cell) shows its
+    part in the unit square (i, j) beside it from the image moved by (i, j): the copy is the triangle moved back
+    by (i, j), and its texels within the cell are that part's. Under MIRROR the part in square i shows the image
+    mirrored where i is odd: u becomes i + 1 - u (alike in v). The copies are rasterised with their triangle's
+    island, within its cell, so each texel of the cell shows the surface Blender shows there. A triangle reaching
+    over more than ``MOST_REPEATS`` squares a side, a tiled source's and a CLIP or EXTEND source's have none."""
+    none = np.zeros(0, np.int64), np.zeros((0, 3, 2), np.float64)
+    if atlas.repeats is None or not atlas.repeats.any():
+        return none
+    scale = np.array([atlas.columns, atlas.rows], np.float64)
+    where = np.array([[c.column, atlas.rows - 1 - c.row] for c in atlas.cells], np.float64)[atlas.cell]
+    local = atlas.uv * scale - where[:, None, :]                    # the cell's square 0..1
+    low = np.floor(local.min(axis=1) + 1e-9).astype(np.int64)
+    high = np.ceil(local.max(axis=1) - 1e-9).astype(np.int64) - 1
+    span = high - low + 1
+    crossing = np.flatnonzero((atlas.repeats > 0) & (span > 1).any(axis=1) & (span <= MOST_REPEATS).all(axis=1))
+    triangles, parts = [], []
+    for t in crossing.tolist():
+        mirror = atlas.repeats[t] == 2
+        for i in range(int(low[t, 0]), int(high[t, 0]) + 1):
+            for j in range(int(low[t, 1]), int(high[t, 1]) + 1):
+                if i == 0 and j == 0:
+                    continue
+                square = np.array([i, j], np.float64)
+                odd = mirror & (np.array([i, j]) % 2 == 1)
+                part = np.where(odd, square + 1.0 - local[t], local[t] - square)
+                triangles.append(t)
+                parts.append((part + where[t]) / scale)
+    if not triangles:
+        return none
+    return np.array(triangles, np.int64), np.array(parts, np.float64)
 
 
 def placed_uv(moved: np.ndarray, cell: np.ndarray, cells: Sequence[Cell], columns: int, rows: int) -> np.ndarray:
