@@ -203,20 +203,19 @@ def repeated_parts(atlas: Atlas) -> Tuple[np.ndarray, np.ndarray]:
     span = high - low + 1
     crossing = np.flatnonzero((atlas.repeats > 0) & (span > 1).any(axis=1) & (span <= MOST_REPEATS).all(axis=1))
     triangles, parts = [], []
-    for t in crossing.tolist():
-        mirror = atlas.repeats[t] == 2
-        for i in range(int(low[t, 0]), int(high[t, 0]) + 1):
-            for j in range(int(low[t, 1]), int(high[t, 1]) + 1):
-                if i == 0 and j == 0:
-                    continue
-                square = np.array([i, j], np.float64)
-                odd = mirror & (np.array([i, j]) % 2 == 1)
-                part = np.where(odd, square + 1.0 - local[t], local[t] - square)
-                triangles.append(t)
-                parts.append((part + where[t]) / scale)
-    if not triangles:
-        return none
-    return np.array(triangles, np.int64), np.array(parts, np.float64)
+    mirror = atlas.repeats[crossing] == 2
+    for step_u in range(MOST_REPEATS):
+        for step_v in range(MOST_REPEATS):
+            square = low[crossing] + [step_u, step_v]                       # (C, 2) the unit square (i, j)
+            picked = (square <= high[crossing]).all(axis=1) & (square != 0).any(axis=1)
+            odd = mirror[:, None] & (square % 2 == 1)
+            here, square, odd = crossing[picked], square[picked].astype(np.float64), odd[picked]
+            part = np.where(odd[:, None, :], square[:, None, :] + 1.0 - local[here], local[here] - square[:, None, :])
+            triangles.append(here)
+            parts.append((part + where[here][:, None, :]) / scale)
+    triangles, parts = np.concatenate(triangles), np.concatenate(parts)
+    order = np.argsort(triangles, kind="stable")
+    return triangles[order].astype(np.int64), parts[order]
 
 
 def placed_uv(moved: np.ndarray, cell: np.ndarray, cells: Sequence[Cell], columns: int, rows: int) -> np.ndarray:
