@@ -370,14 +370,14 @@ SOURCE_COPY = "source"
 def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: Optional[int] = None,
                  stroke_mm=None, progress: ProgressFn = None, cancel: CancelFn = None,
                  max_memory: Optional[int] = None, normal_map: bool = False, keep_source: bool = False,
-                 across_seams: bool = True) -> dict:
+                 across_seams: bool = True, extensions=None) -> dict:
     """Paint the texture ``texture_path`` of ``mesh`` in its UV space (ALGORITHM §10) and write every output into
     ``output_dir``, as ``paint_file`` writes a still's; return the report.
 
     texture_path: a path, or a list of paths whose k-th is the source of the triangles whose source is k
     (``SurfaceMesh.source``). A path holding ``<UDIM>`` is a tiled image (``surface.atlas``): each tile the mesh
     uses is read from the path with its number there, and a missing one is refused in one sentence naming it. A
-    plain source repeats beyond the UV square 0..1. Each (source, tile) used is a cell of the painted texture, the
+    plain source shows beyond the UV square 0..1 what its rule in ``extensions`` says. Each (source, tile) used is a cell of the painted texture, the
     atlas (``surface.atlas``), painted at once with strokes of one size on the surface.
     mesh: a ``core.surface.mesh.SurfaceMesh`` (Blender's loop triangles) or the path of a Wavefront OBJ file.
     texture_size: each cell's side in texels (default: the sources' longest side, within
@@ -403,10 +403,25 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     painted apart (the apron reaches less far for an island whose strokes are wide against it), so painting
     across costs about as much as apart (bench/seam_cost.py: about 1.0 to 1.2 times the processor seconds) and
     a source that runs on over the surface steps across the seams about as it does (docs/objects.md).
+    extensions: one rule per source for UVs beyond the square 0..1, as Blender's Image Texture node's
+    ``extension`` (``surface.atlas.EXTENSIONS``): "REPEAT" (a face in another unit square is painted where the
+    repeated image shows it), "MIRROR" (alike, mirrored in every other square), "CLIP" or "EXTEND" (only the
+    faces' parts inside 0..1 are painted); one string for all, None for all "REPEAT", ignored for a tiled source.
+    A mesh none of whose faces then covers a texel is refused in one sentence. report.json's "atlas" gives each
+    cell's "extension".
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, cell_map_names, write_cell_maps, write_painting
     from .files.writing import write_png
-    from .surface.atlas import atlas_figures, build_atlas, cell_box, cell_file_suffix, composed, is_tiled, tile_path
+    from .surface.atlas import (
+        atlas_figures,
+        build_atlas,
+        cell_box,
+        cell_file_suffix,
+        checked_extensions,
+        composed,
+        is_tiled,
+        tile_path,
+    )
     from .surface.mesh import SurfaceMesh, check_mesh, read_obj
     from .surface.texture import paint_texture, square_texture, surface_layout
 
@@ -422,12 +437,13 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
                              f"got {texture_size}.")
     if stroke_mm is not None and not (len(stroke_mm) and all(0 < float(w) < 1e6 for w in stroke_mm)):
         raise ParameterError(f"Stroke widths must be positive millimetres, got {list(stroke_mm)}.")
+    rules = checked_extensions(extensions, len(paths))
     surface = (check_mesh(mesh, "given") if isinstance(mesh, SurfaceMesh) else read_obj(mesh))
     if surface.source is not None and int(surface.source.max()) >= len(paths):
         raise InputError(f"A face of the mesh is painted from source {int(surface.source.max())}, but only "
                          f"{len(paths)} texture{'s were' if len(paths) > 1 else ' was'} given.")
     tiled = [is_tiled(path) for path in paths]
-    atlas = build_atlas(surface.uv, surface.source, tiled)
+    atlas = build_atlas(surface.uv, surface.source, tiled, rules)
     files = [tile_path(paths[cell.source], cell.tile) for cell in atlas.cells]
     for cell, file in zip(atlas.cells, files, strict=True):
         if cell.tile is not None and not Path(file).is_file():

@@ -321,6 +321,17 @@ def _widths(text: str) -> tuple:
     return widths
 
 
+def _extensions(text: str) -> list:
+    """``--extension``: rules beyond the UV square 0..1 separated by commas (``surface.atlas.EXTENSIONS``)."""
+    from .surface.atlas import EXTENSIONS
+
+    rules = [word.strip().upper() for word in text.split(",")]
+    wrong = [rule for rule in rules if rule not in EXTENSIONS]
+    if wrong:
+        raise argparse.ArgumentTypeError(f"each extension must be one of {', '.join(EXTENSIONS)}, got {wrong[0]!r}")
+    return rules
+
+
 def _add_object_parser(sub) -> None:
     """The ``object`` subcommand's options."""
     p = sub.add_parser(
@@ -356,6 +367,11 @@ def _add_object_parser(sub) -> None:
                         "at its median texel's size)")
     p.add_argument("--detail", type=_float, default=DEFAULTS.detail, metavar="X",
                    help="0..1, how finely detailed areas are split (default: %(default)s)")
+    p.add_argument("--extension", type=_extensions, default=None, metavar="REPEAT|MIRROR|CLIP|EXTEND",
+                   help="what each texture shows beyond the UV square 0..1, as Blender's Image Texture node's "
+                        "Extension: one rule for all, or one per texture separated by commas; faces there are "
+                        "painted where the image repeats (REPEAT, MIRROR) or only inside 0..1 (CLIP, EXTEND) "
+                        "(default: REPEAT)")
     p.add_argument("--apart-seams", dest="across_seams", action="store_false",
                    help="paint each UV island apart, its strokes stopping at its borders (default: strokes run on "
                         "across the UV seams where the surface does)")
@@ -394,7 +410,7 @@ def run_object(args: argparse.Namespace, progress) -> Optional[int]:
     with reused_heap():
         paint_object(args.texture[0] if len(args.texture) == 1 else args.texture, args.mesh, args.output, params_from_args(args), args.texture_size,
                      args.stroke_mm, progress=progress, max_memory=max_memory(args), normal_map=args.normal_map,
-                     across_seams=args.across_seams)
+                     across_seams=args.across_seams, extensions=args.extension)
 
 
 def _add_farm_options(p) -> None:

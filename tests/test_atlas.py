@@ -154,7 +154,7 @@ def test_one_cell_writes_no_cell_maps_and_the_bytes_of_the_texture_painted_alone
                               STROKES)
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == sorted(PAINTING_FILES)
     assert report["atlas"] == {"columns": 1, "rows": 1, "tile_texels": TILE, "cells": [
-        {"source": 0, "path": str(tmp_path / "paint.png"), "tile": None, "column": 0, "row": 0,
+        {"source": 0, "path": str(tmp_path / "paint.png"), "tile": None, "column": 0, "row": 0, "extension": "REPEAT",
          "files": {"color": "color.exr", "height": "height.exr", "opacity": "opacity.exr"}}]}
     from core.files.reading import read_image
     mesh = read_obj(tmp_path / "two.obj")

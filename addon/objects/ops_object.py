@@ -92,7 +92,7 @@ def _prepare(operator, context):
         properties.check_output_folder(folder)
         with object_material.original_shown(obj):  # a painted object's sources are its originals', never the painting
             source_set = sources.texture_sources(context, obj, settings.object_texture_path, size, scratch)
-            uv, position, material_index = surface.mesh_triangles(context, obj)
+            uv, position, material_index = surface.mesh_triangles(context, obj, source_set.slot_uv_maps())
     except (ValueError, RuntimeError, core.PaintReliefError) as error:
         shutil.rmtree(scratch, ignore_errors=True)
         operator.report({"ERROR"}, str(error))
@@ -104,7 +104,8 @@ def _prepare(operator, context):
 
     def work(progress, cancel):
         return core.paint_object(paths[0] if len(paths) == 1 else paths, mesh, folder, params, size, widths,
-                                 progress=progress, cancel=cancel, normal_map=normal_map, keep_source=keep_source)
+                                 progress=progress, cancel=cancel, normal_map=normal_map, keep_source=keep_source,
+                                 extensions=source_set.extensions)
 
     return ObjectJob(work, lambda error: "Painting {} failed: {}".format(obj.name, error), obj, size, scratch,
                      source_set)

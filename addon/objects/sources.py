@@ -8,17 +8,33 @@ written out as a PNG), else the texture file the user names, else a Cycles
 bake of that material's diffuse colour (``surface.bake_diffuse_colours``;
 a material without nodes renders its one colour, which is its source).
 Slots with the same image or the same file share a source, so the painter
-paints it once; every baked material has its own. Each triangle of the mesh
-is painted from its slot's source (``triangle_sources``).
+paints it once (the same image read through another UV map or with another
+extension is a source of its own); every baked material has its own. Each
+triangle of the mesh is painted from its slot's source
+(``triangle_sources``).
+
+An image source keeps how Blender reads it: its Image Texture node's
+``extension`` (REPEAT, EXTEND, CLIP or MIRROR; the painter paints UVs beyond
+0..1 by it) and the UV map a UV Map node linked to its Vector input names
+(through Reroutes); a file, a bake or a flat colour repeats and is read
+through the object's render UV map.
 """
 
 import os
-from typing import List, NamedTuple
+from typing import List, NamedTuple, Optional
 
 import bpy
 import numpy as np
 
-from .surface import bake_diffuse_colours, base_color_image, image_on_disk, missing_file, write_image
+from .surface import (
+    bake_diffuse_colours,
+    base_color_node,
+    image_extension,
+    image_on_disk,
+    image_uv_map,
+    missing_file,
+    write_image,
+)
 
 UDIM_TOKEN = "<UDIM>"
 
@@ -29,6 +45,13 @@ class SourceSet(NamedTuple):
     paths: List[str]            # one per source: an image file, or a UDIM path holding UDIM_TOKEN
     kinds: List[str]            # one per source: "base color", "udim", "file" or "bake"
     slot_source: List[int]      # one per material slot (one for an object without slots): its source's index
+    extensions: List[str]       # one per source: "REPEAT", "EXTEND", "CLIP" or "MIRROR", how UVs beyond 0..1 read it
+    uv_maps: List[Optional[str]]    # one per source: the UV map its image is read through; None: the render map
+
+    def slot_uv_maps(self):
+        """One per material slot: the UV map its source is read through (None: the render map), for
+        ``surface.mesh_triangles``."""
+        return [self.uv_maps[k] for k in self.slot_source]
 
 
 def tiled_path(image):
@@ -78,14 +101,16 @@ def texture_sources(context, obj, file_path, size, scratch):
     bakes ``size`` texels square. ValueError (one sentence naming the object, image or file) when a slot has no
     source to be had."""
     materials = [slot.material for slot in obj.material_slots] or [None]
-    paths, kinds, slot_source, known, baked = [], [], [], {}, {}
+    paths, kinds, slot_source, known, baked, extensions, uv_maps = [], [], [], {}, {}, [], []
 
-    def source_of(key, make):
+    def source_of(key, make, extension="REPEAT", uv_map=None):
         if key not in known:
             path, kind = make(len(paths))
             known[key] = len(paths)
             paths.append(path)
             kinds.append(kind)
+            extensions.append(extension)
+            uv_maps.append(uv_map)
         return known[key]
 
     if not any(material is not None for material in materials) and not file_path:
@@ -97,10 +122,15 @@ def texture_sources(context, obj, file_path, size, scratch):
         if material is None and slot not in used and len(materials) > 1:
             slot_source.append(0)           # no face shows it: any source will do
             continue
-        image = base_color_image(obj, [material]) if material is not None else None
-        if image is not None:
-            slot_source.append(source_of(("image", image.name), lambda k, image=image: image_source(image, scratch,
-                                                                                                   k)))
+        node = base_color_node(obj, [material]) if material is not None else None
+        if node is not None:
+            image, extension, uv_map = node.image, image_extension(node), image_uv_map(node)
+            if uv_map is not None and obj.data.uv_layers.get(uv_map) is None:
+                raise ValueError("Material {}'s Base Color image {} is read through UV map {}, which object {} does "
+                                 "not have: choose one of its UV maps in the UV Map node, then paint.".format(
+                                     material.name, image.name, uv_map, obj.name))
+            slot_source.append(source_of(("image", image.name, extension, uv_map),
+                                         lambda k, image=image: image_source(image, scratch, k), extension, uv_map))
         elif chosen is not None:
             if not os.path.isfile(chosen):
                 raise ValueError("Texture {} does not exist.".format(chosen))
@@ -117,7 +147,7 @@ def texture_sources(context, obj, file_path, size, scratch):
                                              material, os.path.join(scratch, "bake.{}.png".format(k))), "bake")))
     if baked:
         bake_diffuse_colours(context, obj, size, baked)
-    return SourceSet(paths, kinds, slot_source)
+    return SourceSet(paths, kinds, slot_source, extensions, uv_maps)
 
 
 def used_slots(obj):

@@ -69,22 +69,48 @@ def uv_map_name(obj):
     return (rendered or layers.active or layers[0]).name
 
 
-def mesh_triangles(context, obj):
+def slot_uv_names(obj, slot_uv_maps=None):
+    """One UV map name per material slot of ``obj`` (one for an object without slots): ``slot_uv_maps[k]`` where
+    it names one, else ``uv_map_name`` (the map Blender renders with)."""
+    default = uv_map_name(obj)
+    count = max(len(obj.material_slots), 1)
+    given = list(slot_uv_maps or [])
+    return [given[k] if k < len(given) and given[k] else default for k in range(count)]
+
+
+def triangle_uv(mesh, loops, material_index, names, obj):
+    """(T, 3, 2) float64: each loop triangle's corners (``loops`` (3 T,) int) in the UV map its material slot
+    (``material_index`` (T,), an index past the slots counting as the last) reads, ``names`` one per slot; ValueError
+    (one sentence naming ``obj`` and the map) when ``mesh`` lacks one of them."""
+    count = len(material_index)
+    slot = np.clip(np.asarray(material_index, np.int64), 0, len(names) - 1)
+    corners = np.zeros((count, 3, 2), np.float64)
+    for name in sorted(set(names[k] for k in np.unique(slot).tolist())):
+        layer = mesh.uv_layers.get(name)
+        if layer is None:
+            raise ValueError("Object {}'s modifiers leave its surface without its UV map {}, which the texture "
+                             "is painted in.".format(obj.name, name))
+        uv = np.empty(len(mesh.loops) * 2, np.float32)
+        layer.data.foreach_get("uv", uv)
+        picked = np.asarray(names, object)[slot] == name
+        corners[picked] = uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2)[picked]
+    return corners
+
+
+def mesh_triangles(context, obj, slot_uv_maps=None):
     """(uv (T, 3, 2) float64, position (T, 3, 3) float64 metres, material_index (T,) int32): the corners of the
     loop triangles of the surface the user sees (``obj``'s mesh through its modifiers, shape keys and pose, the
     relief modifiers of Paint Object left out when they are hidden), UVs of ``uv_map_name``, positions in the
     world (the object's transform and the scene's unit scale applied), and each triangle's material slot.
-    ValueError (one sentence) when the modifiers leave no face or drop that UV map."""
-    name = uv_map_name(obj)
+    slot_uv_maps: one UV map name (or None) per material slot, the map each slot's source is read through
+    (``sources.SourceSet.uv_maps``): a triangle's UVs are then its slot's map's, the render map's where None.
+    ValueError (one sentence) when the modifiers leave no face or drop one of those UV maps."""
+    names = slot_uv_names(obj, slot_uv_maps)
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     mesh = evaluated.to_mesh()
     try:
         if len(mesh.polygons) == 0:
             raise ValueError("Object {}'s modifiers leave it no faces to paint.".format(obj.name))
-        layer = mesh.uv_layers.get(name)
-        if layer is None:
-            raise ValueError("Object {}'s modifiers leave its surface without its UV map {}, which the texture "
-                             "is painted in.".format(obj.name, name))
         mesh.calc_loop_triangles()
         count = len(mesh.loop_triangles)
         loops = np.empty(count * 3, np.int32)
@@ -93,8 +119,7 @@ def mesh_triangles(context, obj):
         mesh.loop_triangles.foreach_get("vertices", vertices)
         material_index = np.empty(count, np.int32)
         mesh.loop_triangles.foreach_get("material_index", material_index)
-        uv = np.empty(len(mesh.loops) * 2, np.float32)
-        layer.data.foreach_get("uv", uv)
+        corners = triangle_uv(mesh, loops, material_index, names, obj)
         co = np.empty(len(mesh.vertices) * 3, np.float32)
         mesh.vertices.foreach_get("co", co)
         world = np.array(evaluated.matrix_world, np.float64)
@@ -102,9 +127,8 @@ def mesh_triangles(context, obj):
         evaluated.to_mesh_clear()
     points = co.reshape(-1, 3).astype(np.float64) @ world[:3, :3].T + world[:3, 3]
     points *= context.scene.unit_settings.scale_length
-    corners = uv.reshape(-1, 2)[loops].astype(np.float64).reshape(count, 3, 2)
     position = points[vertices].reshape(count, 3, 3)
-    check_layout(obj, name, corners, position)
+    check_layout(obj, names[0] if len(set(names)) == 1 else ", ".join(sorted(set(names))), corners, position)
     return corners, position, material_index
 
 
@@ -129,6 +153,13 @@ def check_layout(obj, name, uv, position):
 def base_color_image(obj, materials=None):
     """The image an Image Texture node feeds into the Base Color of a Principled BSDF of the object's materials
     (the first found, slot by slot; or of ``materials`` when given), or None."""
+    node = base_color_node(obj, materials)
+    return None if node is None else node.image
+
+
+def base_color_node(obj, materials=None):
+    """The Image Texture node (holding an image) that feeds the Base Color of a Principled BSDF of the object's
+    materials (the first found, slot by slot; or of ``materials`` when given), or None."""
     for material in [slot.material for slot in obj.material_slots] if materials is None else materials:
         if material is None or material.node_tree is None:
             continue
@@ -137,8 +168,37 @@ def base_color_image(obj, materials=None):
                 continue
             for link in node.inputs["Base Color"].links:
                 if link.from_node.bl_idname == "ShaderNodeTexImage" and link.from_node.image is not None:
-                    return link.from_node.image
+                    return link.from_node
     return None
+
+
+def image_extension(node):
+    """The rule of the Image Texture ``node`` beyond the UV square 0..1: its ``extension`` ("REPEAT", "EXTEND",
+    "CLIP" or "MIRROR")."""
+    return str(getattr(node, "extension", "REPEAT") or "REPEAT")
+
+
+def linked_node(socket):
+    """The node linked into the input ``socket``, followed back through Reroute nodes; None when nothing is."""
+    seen = set()
+    while socket.is_linked and socket.links:
+        node = socket.links[0].from_node
+        if node.bl_idname != "NodeReroute" or node.name in seen:
+            return node
+        seen.add(node.name)
+        socket = node.inputs[0]
+    return None
+
+
+def image_uv_map(node):
+    """The name of the UV map the Image Texture ``node`` reads its image through when its Vector input comes from
+    a UV Map node naming one (directly or through Reroutes), else None: the object's render UV map (Blender's
+    default, also for a UV Map node naming none)."""
+    vector = node.inputs.get("Vector")
+    source = linked_node(vector) if vector is not None else None
+    if source is None or source.bl_idname != "ShaderNodeUVMap":
+        return None
+    return source.uv_map or None
 
 
 def image_on_disk(image):

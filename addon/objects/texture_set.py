@@ -65,13 +65,16 @@ def as_udim(image, tiles):
     image.reload()
 
 
-def write_atlas_uv(obj, atlas, slot_source, uv_map, name):
+def write_atlas_uv(obj, atlas, slot_source, uv_map, name, slot_uv_maps=None):
     """Write where each corner of ``obj``'s own mesh (before modifiers, which carry it on) lies in ``atlas``
-    (report.json's) into its UV map ``name`` (made when missing; the maps Blender shows and renders with stay as
-    they were), from its UV map ``uv_map`` and each face's source (``slot_source``: one per material slot);
+    (report.json's, each source wrapped by its cells' "extension") into its UV map ``name`` (made when missing;
+    the maps Blender shows and renders with stay as they were), from its UV map ``uv_map`` and each face's source
+    (``slot_source``: one per material slot); with ``slot_uv_maps`` (one UV map name or None per slot,
+    ``sources.SourceSet.slot_uv_maps()``) a face's corners are read from its slot's map (``uv_map`` where None);
     returns ``name``."""
     from ...core.surface.atlas import triangle_atlas_uv
     from .sources import triangle_sources
+    from .surface import triangle_uv
 
     mesh = obj.data
     mesh.calc_loop_triangles()
@@ -79,9 +82,8 @@ def write_atlas_uv(obj, atlas, slot_source, uv_map, name):
     mesh.loop_triangles.foreach_get("loops", loops)
     slots = np.empty(len(mesh.loop_triangles), np.int32)
     mesh.loop_triangles.foreach_get("material_index", slots)
-    corners = np.empty(len(mesh.loops) * 2, np.float32)
-    mesh.uv_layers[uv_map].data.foreach_get("uv", corners)
-    triangles = corners.reshape(-1, 2)[loops].astype(np.float64).reshape(-1, 3, 2)
+    names = [named or uv_map for named in (slot_uv_maps or [None])]
+    triangles = triangle_uv(mesh, loops, slots, names, obj)
     atlas_uv = triangle_atlas_uv(triangles, triangle_sources(slots, slot_source), None, atlas)
     layers = mesh.uv_layers
     active, rendered = layers.active_index, next((k for k, layer in enumerate(layers) if layer.active_render), 0)

@@ -52,7 +52,7 @@ from .apron import (
     seam_charts,
     widest_stretch,
 )
-from .atlas import Atlas
+from .atlas import Atlas, repeated_parts
 from .islands import NO_ISLAND, TexelDensity, bled, bleed_texels, island_map, texel_density, uv_islands
 from .mesh import SurfaceMesh
 from .seams import OFFSET_TEXELS, EdgeSamples, edge_samples, seam_figures
@@ -74,7 +74,9 @@ def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True,
     samples across its edges ``OFFSET_TEXELS`` of the coarsest island's texels from them, and, with
     ``across_seams``, the chart maps strokes run on across its seams by (else each island is painted apart).
     With an ``atlas`` of several cells (whose UV ``mesh`` then holds, ``size`` a whole number of cells): islands
-    end where cells change, the edges there are seams, and each triangle's texels stay within its cell."""
+    end where cells change, the edges there are seams, and each triangle's texels stay within its cell. With an
+    ``atlas`` (of one cell or several), a triangle of a repeating source that crosses its cell's border covers its
+    texels past it on the cell's far side, where the repeated image shows them (``atlas.repeated_parts``)."""
     several = atlas is not None and len(atlas.cells) > 1
     cell = atlas.cell if several else None
     islands = uv_islands(mesh.uv, cell)
@@ -86,7 +88,13 @@ def surface_layout(mesh: SurfaceMesh, size: int, across_seams: bool = True,
     if several:
         place = np.array([[c.column, c.row] for c in atlas.cells], np.int64)[cell] * cell_texels
         limits = np.stack([place, place + cell_texels - 1], axis=1)
-    return SurfaceLayout(island_map(mesh.uv, islands, size, limits), density,
+    raster_uv, raster_islands = mesh.uv, islands
+    if atlas is not None:
+        copied, parts = repeated_parts(atlas)
+        if len(copied):
+            raster_uv, raster_islands = np.concatenate([mesh.uv, parts]), np.concatenate([islands, islands[copied]])
+            limits = None if limits is None else np.concatenate([limits, limits[copied]])
+    return SurfaceLayout(island_map(raster_uv, raster_islands, size, limits), density,
                          edge_samples(mesh.uv, mesh.position, offset_m, None if cell is None else islands), charts,
                          cell_texels)
 
@@ -303,8 +311,8 @@ def check_layout(texture: np.ndarray, layout: SurfaceLayout) -> None:
         raise InputError(f"The texture is {texture.shape[1]} x {texture.shape[0]} texels and its island map "
                          f"{layout.islands.shape[1]} x {layout.islands.shape[0]}: both must be the same square.")
     if not (layout.islands != NO_ISLAND).any():
-        raise InputError("No face of the mesh covers a texel of the texture: its UV map is empty or lies outside "
-                         "the square 0..1.")
+        raise InputError("No face of the mesh covers a texel of the texture: its UV map is empty, or lies outside "
+                         "the square 0..1 where its image does not repeat (Clip or Extend).")
     present = np.unique(layout.islands[layout.islands != NO_ISLAND])
     density = layout.density.island[present - 1]
     if not (np.isfinite(density) & (density > 0)).all():
