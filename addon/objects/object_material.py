@@ -109,8 +109,9 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_
         mark_relief(obj, [canvas_plane.add_adaptive_subdivision(
             scene, obj, obj.modifiers.new(canvas_plane.SUBDIVISION_MODIFIER, "SUBSURF"))])
     elif not normal_map:
-        relief_uv = texture_set.write_atlas_uv(obj, atlas, slot_source, render_uv, ATLAS_UV_MAP) if several \
-            else render_uv
+        source_uv = [uv_maps[source] if uv_maps else None for source in slot_source]
+        relief_uv = texture_set.write_atlas_uv(obj, atlas, slot_source, render_uv, ATLAS_UV_MAP, source_uv) \
+            if several else source_uv[0] or render_uv
         add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size, relief_uv)
     show_painting(obj, True)
     return per_slot[0]

@@ -116,7 +116,8 @@ def _finish(operator, context, job, report):
     settings, obj = context.scene.paint_relief, job.obj
     try:
         object_material.paint_object_look(context.scene, obj, report["output_dir"], settings.thickness_mm / 1000.0,
-                                          settings.object_relief, job.size, job.source_set.slot_source)
+                                          settings.object_relief, job.size, job.source_set.slot_source,
+                                          job.source_set.extensions, job.source_set.uv_maps)
     except CanvasError as error:
         operator.report({"ERROR"}, str(error))
         return
