@@ -257,7 +257,7 @@ def island_apron(charts: SeamCharts, islands: np.ndarray, island: int, origin: T
     outside the island whose nearest border edge is a seam, within ``reach`` texels of it times the seam's
     ``stretch``, which the seam's chart map sends onto a texel of the neighbour island (module docstring)."""
     own = np.flatnonzero(charts.island == island)
-    if not (charts.neighbour[own] != NO_ISLAND).any():
+    if reach <= 0 or not (charts.neighbour[own] != NO_ISLAND).any():     # no reach (apron_reach may give 0)
         return Apron(*(np.zeros(0, np.int64),) * 3, np.zeros(0, np.int32), np.zeros((0, 2)), np.zeros(0))
     shift = np.array([origin[1], origin[0]], float)
     nearest, distance = nearest_edge(charts.ends[own] - shift, box.shape)
