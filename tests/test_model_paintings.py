@@ -26,12 +26,14 @@ def film_luminance(folder):
 
     total, count = 0.0, 0
     for path in sorted(folder.glob("*.exr")):
-        buffer = oiio.ImageBuf(str(path))
-        names = list(buffer.spec().channelnames)
-        pixels = buffer.get_pixels(oiio.FLOAT)
-        rgb = pixels[..., [next(i for i, n in enumerate(names) if n.endswith("Combined." + c)) for c in "RGB"]]
-        depth = pixels[..., next(i for i, n in enumerate(names) if n.endswith("Depth.Z"))]
-        covered = depth < 1e9
+        channels = {}
+        for part in range(max(oiio.ImageBuf(str(path)).nsubimages, 1)):    # Blender 5 writes a part per pass
+            buffer = oiio.ImageBuf(str(path), part, 0)
+            pixels = buffer.get_pixels(oiio.FLOAT)
+            for index, name in enumerate(buffer.spec().channelnames):
+                channels[".".join(name.split(".")[-2:])] = pixels[..., index]
+        rgb = np.stack([channels["Combined." + channel] for channel in "RGB"], -1)
+        covered = channels["Depth.Z"] < 1e9
         total += float((rgb[covered] @ LUMINANCE).sum())
         count += int(covered.sum())
     return total / max(count, 1)
@@ -46,13 +48,14 @@ def paintings(tmp_path_factory):
     for model, name in PAINTED:
         out = work / "{}-{}".format(model, name)
         run = run_script(SCRIPT, [MODELS / dict((m["name"], m["file"]) for m in LISTED)[model], "--object", name,
-                                  "-o", out, "--views", "2", "--samples", "4", "--resolution", "96",
+                                  "-o", out, "--views", "8", "--samples", "4", "--resolution", "96",
                                   "--texture-size", "256"], work, timeout=600)
         assert run.returncode == 0, "{} {}:\n{}".format(model, name, run.stderr[-3000:])
         figures = run_checks(FIGURES, work, out / "original.blend", out / "scene.blend", name, out / "figures",
-                             "--views", "2", "--res", "96", timeout=600)
+                             "--views", "4", "--res", "96", timeout=600)
         found[model, name] = (figures, film_luminance(out / "renders" / "relit"),
                               film_luminance(out / "renders" / "original"))
+        print(model, name, json.dumps(figures), "colour {:.3f}".format(found[model, name][1] / found[model, name][2]))
     return found
 
 

@@ -55,14 +55,17 @@ ATLAS_UV_MAP = "Paint Relief Atlas"
 
 
 def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_source=None, extensions=None,
-                      uv_maps=None):
+                      uv_maps=None, feeds=None, transforms=None):
     """Give ``obj`` of ``scene`` the painting in ``folder``: its painted materials and the relief (``relief``:
     'DISPLACE', 'CYCLES_ADAPTIVE' or 'NORMAL_MAP'); returns the first slot's painted material.
 
     Each slot's painted material is a coat of paint over the material the slot had (``paint_layer``: a copy,
     so its normal map, emission, metal and every other input stay), reading its source's maps
     (``slot_source``: each slot's source, default all the first) through that source's UV map (``uv_maps``, None
-    for the map Blender renders with) with its image's extension (``extensions``, default REPEAT); a slot
+    for the map Blender renders with) with its image's extension (``extensions``, default REPEAT), or by the
+    output of the nodes that fed the source image's Vector (``feeds``: (node name, output identifier) or None,
+    one per source, for a slot whose original holds that node; ``transforms``, the sources' functions of UVs
+    to where they are read, give the relief's UV map then); a slot
     without a material, or whose material has no shader a coat can go on, gets the canvas's shader. Slots of
     one material and source share one painted material. An earlier painting's materials are replaced by the
     new ones wherever they were used. The materials the object shows are kept as its originals unless it shows
@@ -88,8 +91,9 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_
             uv_map = (uv_maps[source] if uv_maps and uv_maps[source] else None) or render_uv
             extension = extensions[source] if extensions else "REPEAT"
             before = earlier[slot] if earlier[slot] not in made.values() else None
+            feed = feeds[source] if feeds else None
             material = _painted(original if key[0] is not None else None, before, name,
-                                (sets[source], thickness, uv_map, extension, adaptive, normal_map))
+                                (sets[source], thickness, uv_map, extension, adaptive, normal_map, feed))
             made[key] = material
         per_slot.append(made[key])
     keep_originals(obj, originals)
@@ -103,15 +107,16 @@ def paint_object_look(scene, obj, folder, thickness, relief, texture_size, slot_
     elif PAINTED_SLOTS_KEY in obj:
         del obj[PAINTED_SLOTS_KEY]
     remove_relief(obj)
-    if not several:
+    moved = any(transform is not None for transform in transforms or ())
+    if not several and not moved:
         texture_set.remove_atlas_uv(obj, ATLAS_UV_MAP)
     if adaptive:
         mark_relief(obj, [canvas_plane.add_adaptive_subdivision(
             scene, obj, obj.modifiers.new(canvas_plane.SUBDIVISION_MODIFIER, "SUBSURF"))])
     elif not normal_map:
         source_uv = [uv_maps[source] if uv_maps else None for source in slot_source]
-        relief_uv = texture_set.write_atlas_uv(obj, atlas, slot_source, render_uv, ATLAS_UV_MAP, source_uv) \
-            if several else source_uv[0] or render_uv
+        relief_uv = texture_set.write_atlas_uv(obj, atlas, slot_source, render_uv, ATLAS_UV_MAP, source_uv,
+                                               transforms) if several or moved else source_uv[0] or render_uv
         add_relief(obj, images[values.HEIGHT_MAP], thickness, texture_size, relief_uv)
     show_painting(obj, True)
     return per_slot[0]
@@ -126,7 +131,7 @@ def _painted(original, before, name, paint):
         if paint_layer.layer_origin(before) == original and paint_layer.update_layer(before, *paint):
             return before                                   # the same coat, new paint: the user's edits stay
         return paint_layer.layered_material(original, *paint[:4], name, *paint[4:])
-    images, thickness, uv_map, extension, adaptive, normal_map = paint
+    images, thickness, uv_map, extension, adaptive, normal_map, _ = paint
     material = before if before is not None and before.get(canvas_material.OWN_NODE_KEY) and \
         paint_layer.layer_origin(before) is None else bpy.data.materials.new(name)
     canvas_material.build_material(material, images, thickness, adaptive, normal_map, uv_map, extension)

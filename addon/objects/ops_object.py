@@ -97,7 +97,9 @@ def _prepare(operator, context):
         shutil.rmtree(scratch, ignore_errors=True)
         operator.report({"ERROR"}, str(error))
         return None
-    mesh = core.SurfaceMesh(uv, position, sources.triangle_sources(material_index, source_set.slot_source))
+    triangle_source = sources.triangle_sources(material_index, source_set.slot_source)
+    mesh = core.SurfaceMesh(sources.read_where_sampled(uv, triangle_source, source_set.transforms), position,
+                            triangle_source)
     paths = source_set.paths
     normal_map = settings.object_relief == "NORMAL_MAP"
     keep_source = any(os.path.dirname(path) == scratch for path in paths)
@@ -117,7 +119,8 @@ def _finish(operator, context, job, report):
     try:
         object_material.paint_object_look(context.scene, obj, report["output_dir"], settings.thickness_mm / 1000.0,
                                           settings.object_relief, job.size, job.source_set.slot_source,
-                                          job.source_set.extensions, job.source_set.uv_maps)
+                                          job.source_set.extensions, job.source_set.uv_maps,
+                                          job.source_set.feeds, job.source_set.transforms)
     except CanvasError as error:
         operator.report({"ERROR"}, str(error))
         return

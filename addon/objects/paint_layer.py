@@ -79,14 +79,16 @@ def can_layer(material):
 
 
 def layered_material(original, images, thickness, uv_map, extension, name, connect_displacement=False,
-                     normal_map=False):
+                     normal_map=False, vector_feed=None):
     """A copy of ``original`` named ``name`` wearing the paint of ``images`` ({role: image}: colour, height,
     opacity, and normal with ``normal_map``) as the module docstring says; ``thickness``: metres of paint of
     height 1; ``uv_map``: the UV map the maps are read through; ``extension``: the Image Texture extension
     ('REPEAT', 'EXTEND', 'CLIP', 'MIRROR'); ``connect_displacement``: the paint's height drives the output's
     Displacement (Cycles displacement at render time); ``normal_map``: the painter's tangent-space normal map
     shades the paint's relief where a shader has no normal of its own (over a normal of its own, the Bump of
-    the paint's height at full strength does). Requires ``can_layer(original)``."""
+    the paint's height at full strength does); ``vector_feed``: (node name, output identifier) of the nodes
+    that fed the source image's Vector (a Mapping, a mirroring chain), whose output then reads the maps too,
+    else None. Requires ``can_layer(original)``."""
     material = original.copy()
     material.name = name
     if material.use_fake_user:
@@ -128,10 +130,12 @@ def layered_material(original, images, thickness, uv_map, extension, name, conne
     for node in set(tree.nodes) - before:
         node[OWN_NODE_KEY] = True
         node.location = (node.location[0] - 600, node.location[1])
+    _read_through(tree, uv, vector_feed)
     return material
 
 
-def update_layer(material, images, thickness, uv_map, extension, connect_displacement=False, normal_map=False):
+def update_layer(material, images, thickness, uv_map, extension, connect_displacement=False, normal_map=False,
+                 vector_feed=None):
     """Point the coat of paint of ``material`` (made by ``layered_material``, with the same arguments) at new maps,
     thickness, UV map and extension, in place; True when it could (every node of the coat is there and it has
     the same kind of relief), else False, changing nothing. Nodes and links the user added stay."""
@@ -143,6 +147,7 @@ def update_layer(material, images, thickness, uv_map, extension, connect_displac
             not any(node.bl_idname == "ShaderNodeBump" for node in nodes.values()):
         return False
     nodes[NODE_PREFIX + "UV"].uv_map = uv_map
+    _read_through(tree, nodes[NODE_PREFIX + "UV"], vector_feed)
     for node in nodes.values():
         if node.bl_idname == "ShaderNodeTexImage":
             node.image = images[{"Colour": values.COLOR_MAP, "Height": values.HEIGHT_MAP,
@@ -162,6 +167,16 @@ def update_layer(material, images, thickness, uv_map, extension, connect_displac
         tree.links.remove(link)
     set_material_displacement(material, "DISPLACEMENT" if connect_displacement else "BUMP")
     return True
+
+
+def _read_through(tree, uv, vector_feed):
+    """Link the Vector of every image node the UV Map node ``uv`` feeds (or the feed fed) to ``vector_feed``'s
+    output when ``tree`` holds that node, else to ``uv``."""
+    feed = tree.nodes.get(vector_feed[0]) if vector_feed else None
+    output = next((socket for socket in feed.outputs if socket.identifier == vector_feed[1]), None) if feed else None
+    for node in own_nodes(tree).values():
+        if node.bl_idname == "ShaderNodeTexImage":
+            tree.links.new(output or uv.outputs["UV"], node.inputs["Vector"])
 
 
 def _image(tree, uv, image, label, interpolation, extension):

@@ -15,13 +15,16 @@ triangle of the mesh is painted from its slot's source
 
 An image source keeps how Blender reads it: its Image Texture node's
 ``extension`` (REPEAT, EXTEND, CLIP or MIRROR; the painter paints UVs beyond
-0..1 by it) and the UV map a UV Map node linked to its Vector input names
-(through Reroutes); a file, a bake or a flat colour repeats and is read
-through the object's render UV map.
+0..1 by it), the UV map its Vector input starts from, and the nodes between
+(``uv_chain``: a Mapping node, a glTF importer's mirroring Math nodes), as a
+function of the UVs the painter paints through and whose output the painted
+material reads its maps by; an image read through nodes not followed there
+is baked. A file, a bake or a flat colour repeats and is read through the
+object's render UV map.
 """
 
 import os
-from typing import List, NamedTuple, Optional
+from typing import Callable, List, NamedTuple, Optional
 
 import bpy
 import numpy as np
@@ -31,10 +34,10 @@ from .surface import (
     base_color_node,
     image_extension,
     image_on_disk,
-    image_uv_map,
     missing_file,
     write_image,
 )
+from .uv_chain import vector_chain
 
 UDIM_TOKEN = "<UDIM>"
 
@@ -47,6 +50,8 @@ class SourceSet(NamedTuple):
     slot_source: List[int]      # one per material slot (one for an object without slots): its source's index
     extensions: List[str]       # one per source: "REPEAT", "EXTEND", "CLIP" or "MIRROR", how UVs beyond 0..1 read it
     uv_maps: List[Optional[str]]    # one per source: the UV map its image is read through; None: the render map
+    transforms: List[Optional[Callable]]    # one per source: (N, 2) UVs -> where its image is read; None: as is
+    feeds: List[Optional[tuple]]    # one per source with a transform: (node name, output) feeding its image's Vector
 
     def slot_uv_maps(self):
         """One per material slot: the UV map its source is read through (None: the render map), for
@@ -101,16 +106,18 @@ def texture_sources(context, obj, file_path, size, scratch):
     bakes ``size`` texels square. ValueError (one sentence naming the object, image or file) when a slot has no
     source to be had."""
     materials = [slot.material for slot in obj.material_slots] or [None]
-    paths, kinds, slot_source, known, baked, extensions, uv_maps = [], [], [], {}, {}, [], []
+    paths, kinds, slot_source, known, baked, extensions, uv_maps, transforms, feeds = [], [], [], {}, {}, [], [], [], []
 
-    def source_of(key, make, extension="REPEAT", uv_map=None):
+    def source_of(key, make, extension="REPEAT", chain=None):
         if key not in known:
             path, kind = make(len(paths))
             known[key] = len(paths)
             paths.append(path)
             kinds.append(kind)
             extensions.append(extension)
-            uv_maps.append(uv_map)
+            uv_maps.append(chain.uv_map if chain is not None else None)
+            transforms.append(chain.transform if chain is not None else None)
+            feeds.append(chain.feed if chain is not None and chain.transform is not None else None)
         return known[key]
 
     if not any(material is not None for material in materials) and not file_path:
@@ -123,14 +130,16 @@ def texture_sources(context, obj, file_path, size, scratch):
             slot_source.append(0)           # no face shows it: any source will do
             continue
         node = base_color_node(obj, [material]) if material is not None else None
-        if node is not None:
-            image, extension, uv_map = node.image, image_extension(node), image_uv_map(node)
+        chain = vector_chain(node) if node is not None else None
+        if chain is not None:
+            image, extension, uv_map = node.image, image_extension(node), chain.uv_map
             if uv_map is not None and obj.data.uv_layers.get(uv_map) is None:
                 raise ValueError("Material {}'s Base Color image {} is read through UV map {}, which object {} does "
                                  "not have: choose one of its UV maps in the UV Map node, then paint.".format(
                                      material.name, image.name, uv_map, obj.name))
-            slot_source.append(source_of(("image", image.name, extension, uv_map),
-                                         lambda k, image=image: image_source(image, scratch, k), extension, uv_map))
+            read_by = (material.name, chain.feed) if chain.transform is not None else None
+            slot_source.append(source_of(("image", image.name, extension, uv_map, read_by),
+                                         lambda k, image=image: image_source(image, scratch, k), extension, chain))
         elif chosen is not None:
             if not os.path.isfile(chosen):
                 raise ValueError("Texture {} does not exist.".format(chosen))
@@ -147,7 +156,7 @@ def texture_sources(context, obj, file_path, size, scratch):
                                              material, os.path.join(scratch, "bake.{}.png".format(k))), "bake")))
     if baked:
         bake_diffuse_colours(context, obj, size, baked)
-    return SourceSet(paths, kinds, slot_source, extensions, uv_maps)
+    return SourceSet(paths, kinds, slot_source, extensions, uv_maps, transforms, feeds)
 
 
 def used_slots(obj):
@@ -163,3 +172,15 @@ def triangle_sources(material_index, slot_source):
     the slots, as Blender allows, counts as the last slot)."""
     slots = np.asarray(slot_source, np.int64)
     return slots[np.clip(np.asarray(material_index, np.int64), 0, len(slots) - 1)]
+
+
+def read_where_sampled(uv, triangle_source, transforms):
+    """(T, 3, 2) float64: the corners ``uv`` (T, 3, 2) of each triangle moved to where its source's image is read
+    (``transforms``, one per source: a function of (N, 2) UVs, or None for as they are), by ``triangle_source``
+    (T,)."""
+    moved = np.array(uv, np.float64)
+    for source, transform in enumerate(transforms):
+        chosen = np.asarray(triangle_source) == source
+        if transform is not None and chosen.any():
+            moved[chosen] = transform(moved[chosen].reshape(-1, 2)).reshape(-1, 3, 2)
+    return moved

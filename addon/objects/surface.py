@@ -178,29 +178,6 @@ def image_extension(node):
     return str(getattr(node, "extension", "REPEAT") or "REPEAT")
 
 
-def linked_node(socket):
-    """The node linked into the input ``socket``, followed back through Reroute nodes; None when nothing is."""
-    seen = set()
-    while socket.is_linked and socket.links:
-        node = socket.links[0].from_node
-        if node.bl_idname != "NodeReroute" or node.name in seen:
-            return node
-        seen.add(node.name)
-        socket = node.inputs[0]
-    return None
-
-
-def image_uv_map(node):
-    """The name of the UV map the Image Texture ``node`` reads its image through when its Vector input comes from
-    a UV Map node naming one (directly or through Reroutes), else None: the object's render UV map (Blender's
-    default, also for a UV Map node naming none)."""
-    vector = node.inputs.get("Vector")
-    source = linked_node(vector) if vector is not None else None
-    if source is None or source.bl_idname != "ShaderNodeUVMap":
-        return None
-    return source.uv_map or None
-
-
 def image_on_disk(image):
     """The absolute path of ``image``'s file when it is on disk as the image shows it (not packed, not
     generated, not edited since), else None."""

@@ -65,15 +65,16 @@ def as_udim(image, tiles):
     image.reload()
 
 
-def write_atlas_uv(obj, atlas, slot_source, uv_map, name, slot_uv_maps=None):
+def write_atlas_uv(obj, atlas, slot_source, uv_map, name, slot_uv_maps=None, transforms=None):
     """Write where each corner of ``obj``'s own mesh (before modifiers, which carry it on) lies in ``atlas``
     (report.json's, each source wrapped by its cells' "extension") into its UV map ``name`` (made when missing;
     the maps Blender shows and renders with stay as they were), from its UV map ``uv_map`` and each face's source
     (``slot_source``: one per material slot); with ``slot_uv_maps`` (one UV map name or None per slot,
-    ``sources.SourceSet.slot_uv_maps()``) a face's corners are read from its slot's map (``uv_map`` where None);
-    returns ``name``."""
+    ``sources.SourceSet.slot_uv_maps()``) a face's corners are read from its slot's map (``uv_map`` where None),
+    and moved where its source's image is read by ``transforms`` (``sources.SourceSet.transforms``); a
+    painting of one cell writes those UVs as they are; returns ``name``."""
     from ...core.surface.atlas import triangle_atlas_uv
-    from .sources import triangle_sources
+    from .sources import read_where_sampled, triangle_sources
     from .surface import triangle_uv
 
     mesh = obj.data
@@ -83,8 +84,9 @@ def write_atlas_uv(obj, atlas, slot_source, uv_map, name, slot_uv_maps=None):
     slots = np.empty(len(mesh.loop_triangles), np.int32)
     mesh.loop_triangles.foreach_get("material_index", slots)
     names = [named or uv_map for named in (slot_uv_maps or [None])]
-    triangles = triangle_uv(mesh, loops, slots, names, obj)
-    atlas_uv = triangle_atlas_uv(triangles, triangle_sources(slots, slot_source), None, atlas)
+    sources = triangle_sources(slots, slot_source)
+    triangles = read_where_sampled(triangle_uv(mesh, loops, slots, names, obj), sources, transforms or [])
+    atlas_uv = triangle_atlas_uv(triangles, sources, None, atlas) if is_set(atlas) else triangles
     layers = mesh.uv_layers
     active, rendered = layers.active_index, next((k for k, layer in enumerate(layers) if layer.active_render), 0)
     layer = layers.get(name) or layers.new(name=name, do_init=False)

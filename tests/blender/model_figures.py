@@ -69,14 +69,17 @@ def render(scene, path):
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
     found = {}
-    buffer = oiio.ImageBuf(path)
-    pixels = buffer.get_pixels(oiio.FLOAT)
-    for index, name in enumerate(buffer.spec().channelnames):
-        found[".".join(name.split(".")[-2:])] = pixels[..., index]
+    for part in range(max(oiio.ImageBuf(path).nsubimages, 1)):      # Blender 5 writes a part per pass
+        buffer = oiio.ImageBuf(path, part, 0)
+        pixels = buffer.get_pixels(oiio.FLOAT)
+        for index, name in enumerate(buffer.spec().channelnames):
+            found[".".join(name.split(".")[-2:])] = pixels[..., index]
     return found
 
 
 def cycles(scene, samples):
+    """Cycles on the CPU at ``samples`` samples, no denoising, the render's own passes written (no compositor)."""
+    scene.render.use_compositing = False
     scene.render.engine = "CYCLES"
     scene.cycles.samples = samples
     scene.cycles.use_denoising = False
@@ -98,7 +101,8 @@ def normals(blend, names, views, res, out, tag):
     cycles(scene, 1)
     scene.cycles.pixel_filter_type = "BOX"
     scene.render.film_transparent = True
-    scene.view_layers[0].use_pass_normal = True
+    for layer in scene.view_layers:
+        layer.use_pass_normal = True
     found = []
     for view in frame_views(scene, objects, views, res):
         channels = render(scene, os.path.join(out, "{}_normal_{}.exr".format(tag, view)))
@@ -146,8 +150,9 @@ def main(argv):
     os.makedirs(out, exist_ok=True)
     degrees = angles(normals(original, names, views, res, out, "original"),
                      normals(painted, names, views, res, out, "painted"))
-    results = {"shading_mean": float(degrees.mean()), "shading_p95": float(np.percentile(degrees, 95)),
-               "pixels": int(degrees.size),
+    seen = degrees.size > 0
+    results = {"shading_mean": float(degrees.mean()) if seen else None,
+               "shading_p95": float(np.percentile(degrees, 95)) if seen else None, "pixels": int(degrees.size),
                "glow_original": glow(original, names, views, res, out, "original"),
                "glow_painted": glow(painted, names, views, res, out, "painted")}
     print("RESULTS " + json.dumps(results))
