@@ -52,3 +52,14 @@ def test_an_image_read_through_a_second_uv_map_is_painted_in_that_map(found):
     assert grid["missing"].strip() == ("Error: Material Second's Base Color image blocks.png is read through UV map "
                                        "Missing, which object Grid does not have: choose one of its UV maps in the UV "
                                        "Map node, then paint.")
+
+
+def test_an_image_read_through_nodes_is_painted_where_those_nodes_read_it(found):
+    chains = _step(found, "vector_chains")
+    points = [[0.0, 0.0], [0.5, 0.25], [1.5, 0.75], [2.25, -0.5]]
+    flat = [value for point in chains["mapped"] for value in point]
+    assert flat == pytest.approx([value for u, v in points for value in (2 * u + 0.25, 3 * v)])  # scale, then move
+    assert chains["mapped_map"] == "UVMap" and chains["mapped_feed"][1] == "Vector"
+    flat = [value for point in chains["mirrored"] for value in point]
+    assert flat == pytest.approx([0.0, 0.0, 0.5, 0.25, 0.5, 0.75, 0.25, -0.5])
+    assert chains["noisy"] and chains["plain"]             # a Noise texture is not followed: that source is baked

@@ -204,4 +204,43 @@ def second_uv_map():
     return found
 
 
+@check
+def vector_chains():
+    """Where an image is read through a Mapping node, through the glTF importer's mirroring nodes, and through a
+    node that is not followed, at a few UVs."""
+    import numpy as np
+    from paint_relief.addon.objects.uv_chain import vector_chain
+
+    material = bpy.data.materials.new("Chains")
+    tree = material.node_tree or (setattr(material, "use_nodes", True) or material.node_tree)
+    nodes, links = tree.nodes, tree.links
+    uv = nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "UVMap"
+    mapping = nodes.new("ShaderNodeMapping")
+    mapping.inputs["Location"].default_value = (0.25, 0.0, 0.0)
+    mapping.inputs["Scale"].default_value = (2.0, 3.0, 1.0)
+    mapped = nodes.new("ShaderNodeTexImage")
+    links.new(uv.outputs["UV"], mapping.inputs["Vector"])
+    links.new(mapping.outputs["Vector"], mapped.inputs["Vector"])
+    separate, pingpong, combine = (nodes.new(kind) for kind in ("ShaderNodeSeparateXYZ", "ShaderNodeMath",
+                                                                "ShaderNodeCombineXYZ"))
+    pingpong.operation = "PINGPONG"
+    pingpong.inputs[1].default_value = 1.0
+    mirrored = nodes.new("ShaderNodeTexImage")
+    links.new(uv.outputs["UV"], separate.inputs["Vector"])
+    links.new(separate.outputs["X"], pingpong.inputs[0])
+    links.new(pingpong.outputs["Value"], combine.inputs["X"])
+    links.new(separate.outputs["Y"], combine.inputs["Y"])
+    links.new(combine.outputs["Vector"], mirrored.inputs["Vector"])
+    noise = nodes.new("ShaderNodeTexNoise")
+    noisy = nodes.new("ShaderNodeTexImage")
+    links.new(noise.outputs["Color"], noisy.inputs["Vector"])
+    points = np.array([[0.0, 0.0], [0.5, 0.25], [1.5, 0.75], [2.25, -0.5]])
+    chains = {name: vector_chain(node) for name, node in (("mapped", mapped), ("mirrored", mirrored),
+                                                          ("noisy", noisy))}
+    return {"mapped": chains["mapped"].transform(points).tolist(), "mapped_map": chains["mapped"].uv_map,
+            "mapped_feed": list(chains["mapped"].feed), "mirrored": chains["mirrored"].transform(points).tolist(),
+            "noisy": chains["noisy"] is None, "plain": vector_chain(nodes.new("ShaderNodeTexImage")).transform is None}
+
+
 print("RESULTS " + json.dumps(RESULTS))
