@@ -70,12 +70,77 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     def painted():
         image = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)
         mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
-        return paint(image, params, progress=progress, cancel=cancel, mask=mask)
+        return paint(image, params, progress=progress, cancel=cancel, mask=mask, record_strokes=True)
 
     def written(staging: Path, painting) -> dict:
         return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)
 
     return committed_painting(output_dir, input_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()),
+                              painted, written)
+
+
+def stroke_list_params(document: dict, path) -> Params:
+    """The Params a strokes.json ``document`` (read from ``path``) records, validated; InputError in one sentence
+    naming the file when it records none or ones this version cannot take."""
+    import dataclasses
+
+    recorded = document.get("params")
+    names = {f.name for f in dataclasses.fields(Params)}
+    if not isinstance(recorded, dict) or not set(recorded) <= names:
+        raise InputError(f"The stroke list {path} does not record the painting's parameters as this version "
+                         f"takes them.")
+    try:
+        return Params(**{k: tuple(v) if isinstance(v, list) else v for k, v in recorded.items()}).validate()
+    except (TypeError, ParameterError) as exc:
+        raise InputError(f"The stroke list {path} records parameters this version refuses: "
+                         f"{str(exc).rstrip('.')}.") from None
+
+
+def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = None,
+             normal_map: bool = False) -> dict:
+    """Lay the stroke list ``strokes_path`` (a strokes.json of format 2) on a blank canvas, against the photograph
+    ``reference_path`` it was painted from, and write the files ``paint_file`` writes into ``output_dir``; return
+    the report.
+
+    The painting's parameters and size are the list's own ("params", "width", "height"). A list that cannot be
+    read or laid (not strict JSON, not a stroke list, another format, a stroke without laying data or whose data
+    do not fit its brush) and a reference of another size than the list's are refused in one sentence naming the
+    file, before anything is written; the outputs are committed all together or not at all, as ``paint_file``'s.
+    """
+    from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
+    from .files.stroke_file import FORMAT, read_stroke_file
+    from .methods.laying import lay_painting
+    from .strokes.stroke_file_list import strokes_from_document
+
+    path = Path(strokes_path)
+    document = read_stroke_file(path)
+    if document.get("format", 1) != FORMAT:
+        raise InputError(f"The stroke list {path} is of format {document.get('format', 1)}, which holds no laying "
+                         f"data: paint the photograph again to get a list of format {FORMAT}.")
+    params = stroke_list_params(document, path)
+    size = document.get("width"), document.get("height")
+    if not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in size):
+        raise InputError(f"The stroke list {path} does not record the painting's width and height.")
+    width, height, _ = reading.probe(reference_path, params.max_megapixels)
+    if (width, height) != size:
+        raise InputError(f"The reference {reference_path} is {width} x {height} pixels, but the stroke list {path} "
+                         f"was painted at {size[0]} x {size[1]}.")
+    budget.check_bomb(reference_path, width, height)
+    strokes, records = strokes_from_document(document, path)
+    pages = reading.image_count(reference_path)
+    digest = input_sha256(reference_path)
+
+    def painted():
+        image = reading.read_image(reference_path, params.max_megapixels, params.canvas_colour)
+        try:
+            return lay_painting(image, strokes, records, params, progress=progress)
+        except (ValueError, IndexError) as exc:
+            raise InputError(f"The stroke list {path} cannot be laid: {str(exc).rstrip('.')}.") from None
+
+    def written(staging: Path, painting) -> dict:
+        return write_painting(staging, painting, str(reference_path), normal_map, pages=pages, source_sha256=digest)
+
+    return committed_painting(output_dir, reference_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()),
                               painted, written)
 
 

@@ -168,6 +168,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_batch_parser(sub)
     _add_object_parser(sub)
     _add_light_parser(sub)
+    _add_svg_parser(sub)
+    _add_lay_parser(sub)
     _add_experiments_parser(sub)
     return parser
 
@@ -561,6 +563,70 @@ def run_light(args: argparse.Namespace, progress) -> None:
     writing.write_png(folder / f"lit_{model}.png", image)
     if progress is not None:
         progress(1.0, f"Wrote {folder / f'lit_{model}.png'}")
+
+
+def _add_svg_parser(sub) -> None:
+    """The ``svg`` subcommand's options."""
+    p = sub.add_parser(
+        "svg", help="write a painting's strokes as an SVG picture",
+        description="Read PAINTED_DIR/strokes.json (written by `python -m core paint`) and write FILE.svg: one "
+                    "path per stroke in painting order, its brush width in the painting's pixels, its colour "
+                    "(the mean of its bristles' colours, or its anchor colour when the list holds none) and "
+                    "opacity, round caps and joins, the painting's size as the viewBox.")
+    p.add_argument("painted", metavar="PAINTED_DIR", help="a folder written by `python -m core paint`")
+    p.add_argument("-o", "--output", required=True, metavar="FILE.svg", help="the SVG file to write")
+    p.add_argument("-q", "--quiet", action="store_true", help="no line on stderr")
+    p.set_defaults(run=run_svg)
+
+
+def _status_one(run):
+    """``run`` with its input and output errors ending in exit status 1."""
+    def wrapped(args: argparse.Namespace, progress):
+        try:
+            return run(args, progress)
+        except PaintReliefError as exc:
+            if not isinstance(exc, Cancelled):
+                exc.status = 1
+            raise
+    return wrapped
+
+
+@_status_one
+def run_svg(args: argparse.Namespace, progress) -> None:
+    """The ``svg`` subcommand: PAINTED_DIR/strokes.json -> FILE.svg; exit status 1 on a bad folder or file."""
+    from .files.svg import write_svg
+
+    count = write_svg(args.painted, args.output)
+    if progress is not None:
+        progress(1.0, f"Wrote {count} strokes to {args.output}")
+
+
+def _add_lay_parser(sub) -> None:
+    """The ``lay`` subcommand's options."""
+    p = sub.add_parser(
+        "lay", help="lay a stroke list (strokes.json, edited or not) into a painting's maps",
+        description="Lay the strokes of STROKES.json (written by `python -m core paint`, format 2) on a blank "
+                    "canvas with the painting's parameters it records, against the photograph INPUT it was "
+                    "painted from (its orientation field and the report's PSNR), and write the files `paint` "
+                    "writes into OUTDIR. The painting's own strokes.json gives the painting's bytes.")
+    p.add_argument("strokes", metavar="STROKES.json", help="a stroke list written by `python -m core paint`")
+    p.add_argument("--reference", required=True, metavar="INPUT",
+                   help="the photograph the strokes were painted from, of the size they were painted at")
+    p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
+                   help="folder for the outputs (created if missing)")
+    p.add_argument("--normal-map", action="store_true", help="also write normal.exr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress line on stderr")
+    p.set_defaults(run=run_lay)
+
+
+@_status_one
+def run_lay(args: argparse.Namespace, progress) -> None:
+    """The ``lay`` subcommand; exit status 1 on a bad stroke list or reference, nothing written."""
+    from .api import lay_file
+    from .heap import reused_heap
+
+    with reused_heap():
+        lay_file(args.strokes, args.reference, args.output, progress=progress, normal_map=args.normal_map)
 
 
 def _add_experiments_parser(sub) -> None:

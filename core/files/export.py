@@ -20,6 +20,7 @@ from ..results import Painting
 from ..version import __version__
 from . import quiet, reading, writing
 from .shot_files import REPORT_FILE
+from .stroke_file import STROKES_FILE, stroke_document
 
 
 def map_attributes(params: Params) -> dict:
@@ -163,7 +164,8 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
     orientation.exr  Y, stroke direction in radians [0, pi) (the paper's lighting needs it)
     painting.png the painting, 8-bit sRGB
     lit_paper.png the painting lit by the paper's Eq. 6-7 at strength PAPER_STRENGTH, 8-bit sRGB
-    strokes.json one entry per stroke: layer, anchor, size, path, anchor colour
+    strokes.json one entry per stroke: layer, anchor, size, path, anchor colour, and what laying it again needs
+                 when the painting kept its ``stroke_list`` (``stroke_file``, format 2)
     report.json  figures of the run, the input ("input"; "input_page" 0, the image painted, of its
                  "input_pages" ``pages`` images; with ``source_sha256``, the input file's SHA-256 as
                  "input_sha256"), and the size and SHA-256 of every other file above ("files"), so a
@@ -184,9 +186,9 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
                                                             PAPER_STRENGTH), 2)
     tasks = [lambda: writing.write_png(folder / "lit_paper.png", lit)]
     tasks += map_tasks(folder, "", colour, height, painting.opacity, painting.orientation, attributes)
-    tasks.append(lambda: writing.write_json(folder / "strokes.json",
-                                            {"version": __version__, "strokes": [s.to_dict() for s in painting.strokes]},
-                                            indent=None))
+    document = stroke_document([s.to_dict() for s in painting.strokes], painting.stroke_list,
+                               painting.params.to_dict(), shape[1], shape[0], __version__)
+    tasks.append(lambda: writing.write_json(folder / STROKES_FILE, document, indent=None))
     with quiet.captured():          # one capture for all the writers (library messages go to no terminal)
         run_all(tasks)
     files = file_digests(folder, PAINTING_FILES[:-1])
