@@ -55,11 +55,9 @@ def strokes_from_document(document: dict, path: Path) -> Tuple[StrokeList, List[
             why = str(exc) if isinstance(exc, ValueError) and str(exc).startswith("its") else \
                 "its laying data is malformed"
             raise InputError(f"Stroke {i} of the stroke list {path} cannot be laid: {why}.") from None
-    records = [Stroke(s["layer"], tuple(s["anchor"]), s["size"], np.asarray(s["path"], np.float32),
-                      np.asarray(s["colour"], np.float32)) for s in document["strokes"]]
     n = len(entries)
     if n == 0:
-        return StrokeList.empty(), records
+        return StrokeList.empty(), []
     width = max(len(entry[2]) for entry in entries)
     control = np.full((n, width, 2), np.nan)
     for i, entry in enumerate(entries):
@@ -78,4 +76,24 @@ def strokes_from_document(document: dict, path: Path) -> Tuple[StrokeList, List[
         np.concatenate([entry[8] for entry in entries]).astype(np.float32), starts,
         np.array([entry[6] for entry in entries], np.float32).reshape(n, 3),
         np.array([entry[7] for entry in entries], np.float32))
+    try:
+        paths = kept_paths(strokes)
+    except (ValueError, IndexError):
+        raise InputError(f"The stroke list {path} cannot be laid: a stroke's kept curve samples lie beyond its "
+                         f"control points.") from None
+    records = [Stroke(s["layer"], tuple(s["anchor"]), s["size"], kept, np.asarray(s["colour"], np.float32))
+               for s, kept in zip(document["strokes"], paths, strict=True)]
     return strokes, records
+
+
+def kept_paths(strokes: StrokeList) -> List[np.ndarray]:
+    """Each stroke's path as its ``Stroke`` record holds it, (K, 2) float32 (x, y) px: the ends and control points
+    of the kept part of its curve re-sampled from its control points (``PlannedPaths.polyline``), the painter's
+    own to the bit. IndexError when a stroke's kept samples lie beyond its curve."""
+    paths: List[np.ndarray] = []
+    for first, stop in strokes.runs():
+        plan = strokes.round_plan(first, stop).paths
+        if np.any(plan.last >= plan.samples.shape[1]):
+            raise IndexError("kept samples beyond the curve")
+        paths += [plan.polyline(i) for i in range(stop - first)]
+    return paths
