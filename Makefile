@@ -122,6 +122,7 @@ bench: $(STAMP)
 	$(PY) bench/speedups.py
 	$(PY) bench/hertzmann.py
 	$(PY) bench/lighting.py
+	$(PY) bench/svg.py
 	$(PY) bench/blender.py
 
 extension: $(STAMP) $(WHEELS)
