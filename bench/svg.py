@@ -16,9 +16,9 @@ from pathlib import Path
 
 from common import ROOT, SAMPLE, median_runs, photo
 from core import Params
+from core.api import paint_file
 from core.files import writing
 from core.files.svg import write_svg
-from core.api import paint_file
 
 
 def painted_folder(root: Path, megapixels: float, sample: Path) -> Path:
