@@ -126,6 +126,8 @@ def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = No
         raise InputError(f"The reference {reference_path} is {width} x {height} pixels, but the stroke list {path} "
                          f"was painted at {size[0]} x {size[1]}.")
     budget.check_bomb(reference_path, width, height)
+    budget.check(reference_path, width, height, params.layers)
+    budget.check_space(output_dir, reference_path, width, height, normal_map)
     strokes, records = strokes_from_document(document, path)
     pages = reading.image_count(reference_path)
     digest = input_sha256(reference_path)

@@ -2,7 +2,8 @@
 
 Reading photographs, masks and EXR maps (``reading``), writing EXR, PNG
 and JSON (``writing``) and what the two share (``image_files``), the
-painting's folder of maps and its report (``export``), the all-or-nothing
+painting's folder of maps and its report (``export``), its stroke list
+strokes.json (``stroke_file``) and that list as SVG (``svg``), the all-or-nothing
 commit of a folder's outputs (``staging``, with its folder lock and signal
 handling), checks of a painted folder's maps (``maps``), the memory and
 size budget of an input (``budget``), the frames of a sequence

@@ -7,7 +7,8 @@ Brushes and their tips (``brush``), where anchors go (``layout``, and
 stroke's random numbers (``streams``), solid strokes (``lines``: Hertzmann
 1998's and the "lines" renderer's). ``paint_round`` plans and lays a round
 of strokes and hands the methods their ``Stroke`` records; ``stroke_list``
-keeps what laying the strokes again needs, and ``lay_strokes`` lays them.
+keeps what laying the strokes again needs, and ``lay_strokes`` lays them;
+``stroke_file_list`` reads that list back from a strokes.json.
 """
 
 from .brush import BrushTip, brush_tip, load_brush, tip_cache
