@@ -39,7 +39,7 @@ def check_input(input_path, params: Params, mask_path: Optional[str] = None,
 
 def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
                mask_path: Optional[str] = None, max_memory: Optional[int] = None, normal_map: bool = False,
-               notice: Optional[Callable[[str], None]] = None) -> dict:
+               notice: Optional[Callable[[str], None]] = None, strokes_to_lay: bool = False) -> dict:
     """Read ``input_path``, paint it and write every output into ``output_dir``; return the report.
 
     Checks everything it can from headers first (``check_input``, and the
@@ -56,6 +56,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     is removed again). Running out of memory is reported the same way.
     With ``normal_map`` normal.exr is written too (``export.write_painting``). report.json records the input
     file's SHA-256 ("input_sha256", read before the image), by which ``paint_batch`` knows the painting again.
+    With ``strokes_to_lay``, strokes.json also records what laying each stroke again needs (``lay_file``).
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
     from .methods.registry import paint
@@ -70,7 +71,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     def painted():
         image = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)
         mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
-        return paint(image, params, progress=progress, cancel=cancel, mask=mask, record_strokes=True)
+        return paint(image, params, progress=progress, cancel=cancel, mask=mask, record_strokes=strokes_to_lay)
 
     def written(staging: Path, painting) -> dict:
         return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)

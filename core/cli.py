@@ -163,6 +163,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_analysis_options(paint_p)
     _add_stroke_options(paint_p)
     _add_method_options(paint_p)
+    paint_p.add_argument("--strokes-to-lay", action="store_true",
+                         help="record in strokes.json what laying each stroke again needs (its brush, curve and "
+                              "bristle colours), so `core lay` can lay the list, edited or not: about 7x its size")
     paint_p.set_defaults(run=run_paint)
     _add_sequence_parser(sub)
     _add_batch_parser(sub)
@@ -223,7 +226,7 @@ def run_paint(args: argparse.Namespace, progress) -> None:
     with reused_heap():
         paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask,
                    max_memory=max_memory(args), normal_map=args.normal_map,
-                   notice=lambda text: _notice(progress, text))
+                   notice=lambda text: _notice(progress, text), strokes_to_lay=args.strokes_to_lay)
 
 
 def _add_files_parser(sub, name: str, summary: str, description: str, inputs: tuple,

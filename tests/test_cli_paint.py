@@ -63,7 +63,7 @@ def test_report_and_strokes(painted):
     strokes = json.loads((painted / "strokes.json").read_text())["strokes"]
     assert len(strokes) == report["strokes"]
     first = strokes[0]
-    assert set(first) == {"layer", "anchor", "size", "path", "colour", "lay"}
+    assert set(first) == {"layer", "anchor", "size", "path", "colour"}     # laying data only with --strokes-to-lay
     assert first["layer"] == 0 and len(first["colour"]) == 3 and len(first["path"]) >= 1
     assert all(0 <= s["anchor"][0] < 64 and 0 <= s["anchor"][1] < 48 for s in strokes)
 

@@ -21,7 +21,7 @@ def painted(tmp_path_factory, half_textured):
     folder = tmp_path_factory.mktemp("lay")
     photo = folder / "photo.png"
     writing.write_png(photo, half_textured(48, 64))
-    assert main(["paint", str(photo), "-o", str(folder / "painted"), "-q", "--seed", "3"]) == 0
+    assert main(["paint", str(photo), "-o", str(folder / "painted"), "-q", "--seed", "3", "--strokes-to-lay"]) == 0
     return photo, folder / "painted"
 
 

@@ -21,7 +21,8 @@ def painted(tmp_path_factory, half_textured):
     """A 64 x 48 photograph painted with seed 3."""
     folder = tmp_path_factory.mktemp("svg")
     writing.write_png(folder / "photo.png", half_textured(48, 64))
-    assert main(["paint", str(folder / "photo.png"), "-o", str(folder / "painted"), "-q", "--seed", "3"]) == 0
+    assert main(["paint", str(folder / "photo.png"), "-o", str(folder / "painted"), "-q", "--seed", "3",
+                 "--strokes-to-lay"]) == 0
     return folder / "painted"
 
 

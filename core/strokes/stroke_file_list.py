@@ -22,7 +22,7 @@ def _lay_entry(stroke: dict) -> tuple:
     one stroke's "lay" entry; ValueError when it is missing or malformed."""
     lay = stroke.get("lay")
     if not isinstance(lay, dict):
-        raise ValueError("it has no laying data")
+        raise ValueError("it has no laying data (paint with --strokes-to-lay to record it)")
     brush = lay["brush"]
     if brush not in (PAINTING_BRUSH, ROUND_BRUSH) or isinstance(brush, bool):
         raise ValueError(f"its brush {brush!r} is neither 0 nor 1")
