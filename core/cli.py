@@ -608,11 +608,12 @@ def _add_lay_parser(sub) -> None:
     """The ``lay`` subcommand's options."""
     p = sub.add_parser(
         "lay", help="lay a stroke list (strokes.json, edited or not) into a painting's maps",
-        description="Lay the strokes of STROKES.json (written by `python -m core paint`, format 2) on a blank "
+        description="Lay the strokes of STROKES.json (written by `python -m core paint --strokes-to-lay`) on a blank "
                     "canvas with the painting's parameters it records, against the photograph INPUT it was "
                     "painted from (its orientation field and the report's PSNR), and write the files `paint` "
                     "writes into OUTDIR. The painting's own strokes.json gives the painting's bytes.")
-    p.add_argument("strokes", metavar="STROKES.json", help="a stroke list written by `python -m core paint`")
+    p.add_argument("strokes", metavar="STROKES.json",
+                   help="a stroke list written by `python -m core paint --strokes-to-lay`")
     p.add_argument("--reference", required=True, metavar="INPUT",
                    help="the photograph the strokes were painted from, of the size they were painted at")
     p.add_argument("-o", "--output", required=True, type=_folder, metavar="OUTDIR",
