@@ -29,6 +29,8 @@ PAINTED = ("uvs_overlapping", "uvs_outside_the_unit_square", "uvs_partly_outside
 """The cases that paint."""
 
 REFUSED = {
+    "ctrl_c_while_the_sources_are_read": "Painting Interrupted was stopped: its maps were not written and the object "
+                                         "is as it was.",
     "no_uv_map": "Object NoUVs has no UV map: press Smart UV Project in the Paint Object panel to unwrap it, then "
                  "paint.",
     "uvs_all_at_one_point": "Object Collapsed's UV map UVMap has no area: its faces lie on a point or a line in UV "

@@ -97,6 +97,9 @@ def _prepare(operator, context):
         shutil.rmtree(scratch, ignore_errors=True)
         operator.report({"ERROR"}, str(error))
         return None
+    except KeyboardInterrupt:       # Ctrl-C while the sources are read or baked (a bake puts the object back)
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise
     triangle_source = sources.triangle_sources(material_index, source_set.slot_source)
     mesh = core.SurfaceMesh(sources.read_where_sampled(uv, triangle_source, source_set.transforms), position,
                             triangle_source)
@@ -151,7 +154,12 @@ class PAINT_RELIEF_OT_paint_object(jobs.SceneJob, Operator):
         return context.scene is not None
 
     def execute(self, context):
-        job = _prepare(self, context)
+        try:
+            job = _prepare(self, context)
+        except KeyboardInterrupt:   # Ctrl-C in a headless run before the painter starts: nothing was written
+            self.report({"ERROR"}, "Painting {} was stopped: its maps were not written and the object is as it "
+                        "was.".format(getattr(context.active_object, "name", "the object")))
+            return {"CANCELLED"}
         if job is None:
             return {"CANCELLED"}
         jobs.begin(context.scene)

@@ -708,6 +708,24 @@ def cancelled_midway(settings):
 
 
 @case
+def ctrl_c_while_the_sources_are_read(settings):
+    """Ctrl-C in a headless run before the painter starts (here, while the sources are read): one sentence,
+    nothing written, no scratch folder left."""
+    from paint_relief.addon.objects import sources
+
+    obj = textured(cube("Interrupted"))
+    texture_sources = sources.texture_sources
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    sources.texture_sources = interrupted
+    try:
+        return outcome("ctrl_c_while_the_sources_are_read", obj)
+    finally:
+        sources.texture_sources = texture_sources
+
+
+@case
 def output_path_is_a_file(settings):
     obj = textured(cube("IntoAFile"))
     path = os.path.join(WORK, "cases", "output_path_is_a_file", "taken.txt")
