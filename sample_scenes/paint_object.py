@@ -58,6 +58,7 @@ import importlib
 import json
 import math
 import shutil
+import signal
 import sys
 import time
 from pathlib import Path
@@ -409,6 +410,10 @@ def main(argv):
     created = not out.exists()      # a failed run removes the folder it made; an existing one keeps what it held
 
     def step(name):
+        # Ctrl-C is this script's to answer in every step (one sentence, its folder left whole), also when the
+        # process that started it ignores SIGINT (a shell's background command, `core object`) or Blender took
+        # the signal for itself in the step before.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         times.append((name, time.perf_counter()))
         print(f"[{name}]", flush=True)
 
