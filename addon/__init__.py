@@ -17,13 +17,13 @@ no stale classes or properties behind.
 
 from . import cli_command, panels
 from .comparison import ops_compare
-from .objects import ops_object
+from .objects import ops_object, ops_scene_paint
 from .painting import dropped, ops_paint, ops_paint_shot
 from .scene import ops_scene
 from .settings import preferences, presets, properties
 
 # Register order matters: property groups first, panels (which name the operators) last.
-_modules = (properties, preferences, ops_paint, ops_paint_shot, ops_object, ops_scene, ops_compare, presets, dropped,
+_modules = (properties, preferences, ops_paint, ops_paint_shot, ops_object, ops_scene_paint, ops_scene, ops_compare, presets, dropped,
             panels, cli_command)
 
 

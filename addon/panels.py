@@ -171,6 +171,36 @@ class VIEW3D_PT_paint_relief_object(_PaintReliefPanel, Panel):
                             "Show Painting", icon="MATERIAL").show = not painted
 
 
+class VIEW3D_PT_paint_relief_scene(_PaintReliefPanel, Panel):
+    """Paint every object the camera sees, with one stroke size for the whole scene"""
+
+    bl_label = "Paint Scene"
+    bl_parent_id = "VIEW3D_PT_paint_relief"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        from .objects import ops_scene_paint
+
+        layout = self._layout()
+        settings, scene = context.scene.paint_relief, context.scene
+        if settings.scene_selected_only:
+            count = sum(1 for obj in context.selected_objects if obj.type == "MESH")
+            _note(layout, "{} selected mesh objects".format(count), icon="RESTRICT_SELECT_OFF")
+        elif scene.camera is None:
+            layout.label(text="The scene has no camera: add one, or paint the selection", icon="ERROR")
+        else:
+            _note(layout, "What {} sees over frames {} to {}".format(scene.camera.name, scene.frame_start,
+                                                                     scene.frame_end), icon="CAMERA_DATA")
+        _props(layout, settings, "scene_selected_only", "scene_output_dir")
+        if not settings.scene_output_dir:
+            _note(layout, ops_scene_paint.scene_output_dir(context))
+        _note(layout, "Stroke Widths: {}".format(
+            "{} mm".format(settings.object_stroke_mm) if settings.object_stroke_mm.strip() else
+            "from the camera"), icon="BRUSH_DATA")
+        layout.label(text="Texture Size, Stroke Widths and Relief are Paint Object's", icon="INFO")
+        layout.operator("paint_relief.paint_scene", icon="SCENE_DATA")
+
+
 class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
     """The canvas object: physical size, paint thickness and how the relief is made"""
 
@@ -224,6 +254,7 @@ classes = (
     VIEW3D_PT_paint_relief_paint,
     VIEW3D_PT_paint_relief_animation,
     VIEW3D_PT_paint_relief_object,
+    VIEW3D_PT_paint_relief_scene,
     VIEW3D_PT_paint_relief_canvas,
     VIEW3D_PT_paint_relief_lighting,
     VIEW3D_PT_paint_relief_compare,

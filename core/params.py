@@ -278,6 +278,15 @@ def scaled_sizes(params: Params, height: int, width: int) -> Tuple[int, ...]:
     return tuple(sizes)
 
 
+def screen_stroke_mm(params: Params, width: int, height: int, pixel_mm: float) -> Tuple[float, ...]:
+    """The stroke widths (mm, descending) on surfaces where a pixel of a width x height render spans ``pixel_mm``
+    millimetres: the widths a still of that render is painted with (``scaled_sizes``), so that strokes laid there
+    show on screen as wide as the still's."""
+    if not pixel_mm > 0 or pixel_mm == float("inf"):
+        raise ParameterError(f"A pixel must span a positive number of millimetres, got {pixel_mm}.")
+    return tuple(float(size * pixel_mm) for size in scaled_sizes(params, height, width))
+
+
 @dataclass(frozen=True)
 class SequenceSettings:
     """What painting a sequence adds to ``Params`` (ALGORITHM §9).

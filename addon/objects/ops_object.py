@@ -63,6 +63,31 @@ class ObjectJob:
         shutil.rmtree(self.scratch, ignore_errors=True)
 
 
+def object_params(settings):
+    """The painter's ``core.Params`` of the panel's ``settings`` for an object's texture: the paper's method
+    (``Params.validate_object``; ParameterError otherwise, Hertzmann 1998 paints stills), its source resampled to
+    the texture, so it may hold as many pixels as the largest texture offered."""
+    params = params_from_settings(settings).validate_object()
+    return dataclasses.replace(params, max_megapixels=max(params.max_megapixels, OBJECT_SOURCE_MEGAPIXELS))
+
+
+def gather(context, obj, file_path, size, scratch):
+    """(``sources.SourceSet``, ``core.SurfaceMesh``): what the painter needs of ``obj``: its texture set's sources
+    (``file_path`` for slots without an image, else bakes ``size`` texels square; pictures Blender holds only in
+    memory are written into ``scratch``) and its triangles, their UVs where the sources are read. An object
+    painted before gives its original materials' sources, never the painting. ValueError or RuntimeError (one
+    sentence) when it cannot be painted."""
+    from ... import core
+
+    with object_material.original_shown(obj):
+        source_set = sources.texture_sources(context, obj, file_path, size, scratch)
+        uv, position, material_index = surface.mesh_triangles(context, obj, source_set.slot_uv_maps())
+    triangle_source = sources.triangle_sources(material_index, source_set.slot_source)
+    mesh = core.SurfaceMesh(sources.read_where_sampled(uv, triangle_source, source_set.transforms), position,
+                            triangle_source)
+    return source_set, mesh
+
+
 def _prepare(operator, context):
     """Check the object and the settings (the paper's method: ``Params.validate_object``), find the texture's
     source; return an ``ObjectJob`` or None after reporting the problem in one sentence."""
@@ -84,15 +109,11 @@ def _prepare(operator, context):
     size = size if isinstance(size, int) and size > 0 else int(settings.object_texture_size)
     scratch = tempfile.mkdtemp(prefix="paint_relief_object_")
     try:
-        params = params_from_settings(settings).validate_object()  # the paper's method: Hertzmann 1998 paints stills
-        # The source is resampled to the texture: it may hold as many pixels as the largest texture offered.
-        params = dataclasses.replace(params, max_megapixels=max(params.max_megapixels, OBJECT_SOURCE_MEGAPIXELS))
+        params = object_params(settings)
         widths = values.parse_widths(settings.object_stroke_mm)
         folder = object_output_dir(context, obj)
         properties.check_output_folder(folder)
-        with object_material.original_shown(obj):  # a painted object's sources are its originals', never the painting
-            source_set = sources.texture_sources(context, obj, settings.object_texture_path, size, scratch)
-            uv, position, material_index = surface.mesh_triangles(context, obj, source_set.slot_uv_maps())
+        source_set, mesh = gather(context, obj, settings.object_texture_path, size, scratch)
     except (ValueError, RuntimeError, core.PaintReliefError) as error:
         shutil.rmtree(scratch, ignore_errors=True)
         operator.report({"ERROR"}, str(error))
@@ -100,9 +121,6 @@ def _prepare(operator, context):
     except KeyboardInterrupt:       # Ctrl-C while the sources are read or baked (a bake puts the object back)
         shutil.rmtree(scratch, ignore_errors=True)
         raise
-    triangle_source = sources.triangle_sources(material_index, source_set.slot_source)
-    mesh = core.SurfaceMesh(sources.read_where_sampled(uv, triangle_source, source_set.transforms), position,
-                            triangle_source)
     paths = source_set.paths
     normal_map = settings.object_relief == "NORMAL_MAP"
     keep_source = any(os.path.dirname(path) == scratch for path in paths)

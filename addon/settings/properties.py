@@ -447,6 +447,19 @@ class PaintReliefSettings(PropertyGroup):
         "object, where still paintings go",
     )
 
+    # --- Paint Scene (Texture Size, Stroke Widths and Relief are Paint Object's) ---
+    scene_selected_only: BoolProperty(
+        name="Selected Only",
+        description="Paint the selected mesh objects (else every mesh object the scene's camera sees over the "
+                    "frame range)",
+        default=False,
+    )
+    scene_output_dir: _path(
+        "Scene Folder",
+        "Folder holding a folder of painted maps for each texture of the scene. Leave empty for a folder named "
+        "after the scene where paintings go; painting again keeps every texture already painted there",
+    )
+
 
 classes = (PaintReliefSettings,)
 
