@@ -165,7 +165,7 @@ class ScenePaint:
         for painting, outcome in zip(self.paintings, outcomes, strict=True):
             if outcome.error is not None:
                 for name in painting.names:
-                    self.refused[name] = outcome.error
+                    self.refused[name] = str(outcome.error)
                 continue
             for name in painting.names:
                 source_set = gathered[name].source_set
@@ -178,14 +178,14 @@ class ScenePaint:
                     self.refused[name] = str(error)
                     continue
                 painted[name] = {"folder": painting.folder, "shares_with": [n for n in painting.names if n != name],
-                                 "kept": outcome.kept}
+                                 "kept": _kept(outcome)}
         self.seconds["looks"] = time.perf_counter() - started
         reports = {p.folder: o.report for p, o in zip(self.paintings, outcomes, strict=True) if o.error is None}
         report = {"scene": context.scene.name, "frames": [context.scene.frame_start, context.scene.frame_end],
                   "selected_only": self.selected_only, "texture_size": self.size, "stroke_mm": list(self.stroke_mm),
                   "stroke_mm_from": self.how, "painted": painted, "refused": self.refused,
                   "paintings": {folder: {"objects": p.names, "strokes": reports[folder].get("strokes"),
-                                         "kept": o.kept, "seconds": reports[folder].get("seconds")}
+                                         "kept": _kept(o), "seconds": reports[folder].get("seconds")}
                                 for p, o in zip(self.paintings, outcomes, strict=True)
                                 for folder in [p.folder] if folder in reports},
                   "seconds": dict(self.seconds, total=time.perf_counter() - self.started)}
@@ -194,6 +194,12 @@ class ScenePaint:
 
     def clean(self):
         shutil.rmtree(self.scratch, ignore_errors=True)
+
+
+def _kept(outcome):
+    """Whether ``core.paint_objects`` kept the painting of ``outcome`` (an ``ObjectOutcome`` with a report) from
+    an earlier run."""
+    return outcome.report.get("batch") == "kept"
 
 
 def _write_json(path, document):
