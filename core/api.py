@@ -476,7 +476,8 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
     repeated image shows it), "MIRROR" (alike, mirrored in every other square), "CLIP" or "EXTEND" (only the
     faces' parts inside 0..1 are painted); one string for all, None for all "REPEAT", ignored for a tiled source.
     A mesh none of whose faces then covers a texel is refused in one sentence. report.json's "atlas" gives each
-    cell's "extension".
+    cell's "extension", and "inputs_sha256" the digest of everything but ``params`` the painting was made from
+    (``surface.fingerprint``), by which ``paint_objects`` knows the painting again.
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, cell_map_names, write_cell_maps, write_painting
     from .files.writing import write_png
@@ -490,6 +491,7 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
         is_tiled,
         tile_path,
     )
+    from .surface.fingerprint import inputs_sha256
     from .surface.mesh import SurfaceMesh, check_mesh, read_obj
     from .surface.texture import paint_texture, square_texture, surface_layout
 
@@ -532,6 +534,8 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
         size = texture_size
     full = size * side
     several = len(atlas.cells) > 1
+    digest = inputs_sha256(files, surface, listed, texture_size, stroke_mm, rules, normal_map, keep_source,
+                           across_seams)
     budget.check(files[0], full, full, params.layers, max_memory=max_memory)
     budget.check_space(output_dir, files[0], full, 2 * full if several else full, normal_map)
     if several:
@@ -560,6 +564,7 @@ def paint_object(texture_path, mesh, output_dir, params: Params, texture_size: O
             write_cell_maps(staging, painting, [(cell_file_suffix(cell), *cell_box(atlas, i, size))
                                                 for i, cell in enumerate(atlas.cells)], normal_map)
         painting.statistics["atlas"] = atlas_figures(atlas, paths, size, cell_names)
+        painting.statistics["inputs_sha256"] = digest
         source = Path(output_dir).resolve() / copy if copy else (paths[0] if several else files[0])
         return write_painting(staging, painting, str(source), normal_map, extra_files=extra)
 

@@ -1,0 +1,364 @@
+"""``paint_objects``: several objects' textures painted side by side in worker processes, with a resume.
+
+One painting keeps the machine's cores busy only part of the time (much of
+it is serial, and threads share one interpreter lock), so the objects are
+painted each in a process of its own (``worker``), as many at once as there
+are cores, each process with its share of the cores as worker threads. Each
+is painted by ``core.paint_object`` with the job's own arguments, so its
+folder holds the bytes ``paint_object`` alone writes (the number of threads
+changes no byte: ``core.workers``), committed all together or not at all.
+
+A job whose folder already holds its painting (``kept_report``) is kept and
+not painted again, so a run stopped anywhere and run again paints only what
+is missing or changed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import queue
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Callable, Dict, List, NamedTuple, Optional
+
+from .. import errors, tuning
+from ..errors import Cancelled, PaintReliefError, ParameterError
+from ..progress import CancelFn, ProgressFn
+from .jobs import checked_job, write_job
+from .worker import PROGRESS_TAG, STOP_FILE, result_name
+
+ROOT = Path(__file__).resolve().parents[2]
+"""The folder holding the ``core`` package (the extension's own folder inside Blender): the workers' path."""
+
+KEPT, PAINTED = "kept", "painted"
+"""What ``paint_objects`` did with a job, its report's "batch": kept the painting its folder held, or painted it."""
+
+WAIT_SECONDS = 0.1
+"""Seconds between looks at the cancel callback and the workers."""
+
+STOP_SECONDS = 20.0
+"""Seconds a worker is given to stop after it is asked to (it stops at its next look at the cancel callback,
+well under a second while painting) before it is killed."""
+
+
+
+class ObjectOutcome(NamedTuple):
+    """What became of one job of ``paint_objects``: exactly one of the two is not None."""
+
+    report: Optional[dict]
+    """``paint_object``'s report (as report.json holds it, with "output_dir"), and "batch": ``KEPT`` or
+    ``PAINTED``; None when the job failed."""
+    error: Optional[PaintReliefError]
+    """The job's failure (an InputError, OutputError, ParameterError or PaintReliefError), its message one
+    sentence; None when it was painted or kept."""
+
+    @property
+    def ok(self) -> bool:
+        """Whether the job's folder holds its painting."""
+        return self.error is None
+
+
+def core_count() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:                      # not on Linux
+        return os.cpu_count() or 1
+
+
+def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, processes: Optional[int] = None,
+                  notice: Optional[Callable[[str], None]] = None) -> List[ObjectOutcome]:
+    """Paint every job of ``jobs``, side by side on the machine's cores; return an ``ObjectOutcome`` per job, in
+    order.
+
+    jobs: dicts of ``core.paint_object``'s keyword arguments (``jobs.ARGUMENTS``: texture_path, mesh (a
+    ``SurfaceMesh`` or an OBJ path), output_dir and params at least), each painted as ``paint_object`` paints it
+    alone, the same bytes, into its own folder (two jobs naming one folder: the second fails). A job whose folder
+    holds its painting already (``kept_report``: the same sources' bytes, mesh arrays, parameters, texture size,
+    stroke widths, normal map, extensions, by this version) is kept, not painted. One job's failure (a bad input,
+    a job that is not one) is its outcome's one-sentence error, and the others are painted.
+    processes: how many jobs are painted at once, each in a worker process of its own (``worker``) with the
+    cores shared out as its threads (None: one per core; never more than the jobs to paint, nor than the memory
+    available holds). With one, or one job to paint, or no Python to start (``python_program``), the jobs are
+    painted one after another in this process, and ``notice`` (when given) hears why when it is the last.
+    progress(fraction, message): the fraction of all jobs done (a job's own progress counted in), the message
+    the one of the job that spoke, "Object k/N: ...". cancel(): when it returns True every worker stops (each
+    unfinished folder stays as it was) and Cancelled is raised; the jobs painted stay painted.
+    ParameterError in one sentence for no jobs or a wrong ``processes``; the temporary folder handing the
+    jobs over is removed whatever happens.
+    """
+    from ..api import paint_object
+
+    if not isinstance(jobs, (list, tuple)) or not jobs:
+        raise ParameterError("Give at least one object to paint, as a list of paint_object's arguments.")
+    if processes is not None and (isinstance(processes, bool) or not isinstance(processes, int) or processes < 1):
+        raise ParameterError(f"The number of processes must be a whole number from 1, got {processes!r}.")
+    total = len(jobs)
+    outcomes: List[Optional[ObjectOutcome]] = [None] * total
+    checked: Dict[int, dict] = {}
+    folders: Dict[str, int] = {}
+    for k, job in enumerate(jobs):
+        try:
+            checked[k] = checked_job(job, k + 1)
+            folder = str(Path(checked[k]["output_dir"]).resolve())
+            if folder in folders:
+                raise ParameterError(f"Object {k + 1} would be painted into {folder}, as object "
+                                     f"{folders[folder] + 1} is.")
+            folders[folder] = k
+        except PaintReliefError as exc:
+            outcomes[k] = ObjectOutcome(None, exc)
+            checked.pop(k, None)
+    for k, job in checked.items():
+        found = kept_report(job)
+        if found is not None:
+            outcomes[k] = ObjectOutcome(dict(found, output_dir=str(Path(job["output_dir"]).resolve()), batch=KEPT),
+                                        None)
+    todo = [k for k in range(total) if outcomes[k] is None]
+    shares = [0.0 if outcome is None else 1.0 for outcome in outcomes]
+    speak = Progress(progress, shares)
+    for k in range(total):
+        if outcomes[k] is not None:
+            speak(k, 1.0, "kept, painted before" if outcomes[k].ok else "not painted")
+    count = min(processes or core_count(), len(todo), memory_bound([checked[k] for k in todo]))
+    python = python_program()
+    if count > 1 and python is None and notice is not None:
+        notice(f"The objects are painted one after another: {sys.executable} is no Python interpreter to paint "
+               f"them side by side with.")
+    if count > 1 and python is not None:
+        in_processes(python, checked, todo, count, outcomes, speak, cancel)
+    else:
+        for k in todo:
+            if cancel is not None and cancel():
+                raise cancelled(outcomes)
+            try:
+                report = paint_object(**checked[k], progress=lambda f, m, k=k: speak(k, f, m), cancel=cancel)
+            except Cancelled:
+                raise cancelled(outcomes) from None
+            except PaintReliefError as exc:
+                outcomes[k] = ObjectOutcome(None, exc)
+            else:
+                outcomes[k] = ObjectOutcome(dict(report, batch=PAINTED), None)
+            speak(k, 1.0, "painted" if outcomes[k].ok else "not painted")
+    return outcomes
+
+
+class Progress:
+    """The batch's progress: ``shares[k]`` in [0, 1], job k's own fraction done; each call sets one and reports
+    their mean with the job's message."""
+
+    def __init__(self, progress: ProgressFn, shares: List[float]):
+        self.progress = progress
+        self.shares = shares
+
+    def __call__(self, k: int, fraction: float, message: str) -> None:
+        self.shares[k] = min(max(float(fraction), 0.0), 1.0)
+        if self.progress is not None:
+            self.progress(sum(self.shares) / len(self.shares), f"Object {k + 1}/{len(self.shares)}: {message}")
+
+
+def cancelled(outcomes) -> Cancelled:
+    """The Cancelled of a batch stopped with ``outcomes`` (None for a job not done)."""
+    painted = sum(1 for outcome in outcomes if outcome is not None and outcome.ok)
+    return Cancelled(f"Painting the objects was cancelled; the {painted} painted stay in their folders and the "
+                     f"others are as they were.")
+
+
+def kept_report(job: dict) -> Optional[dict]:
+    """The report.json in the checked ``job``'s folder when the folder holds the job's painting whole (every file
+    the report lists there with its size), painted by this version from the same inputs (its "inputs_sha256",
+    ``surface.fingerprint``) with the same parameters; else None (nothing readable, another painting, or inputs
+    ``paint_object`` would refuse)."""
+    from ..files.shot_files import read_report
+    from ..surface.fingerprint import job_inputs_sha256
+
+    try:
+        digest = job_inputs_sha256(job["texture_path"], job["mesh"], job.get("texture_size"), job.get("stroke_mm"),
+                                   bool(job.get("normal_map", False)), bool(job.get("keep_source", False)),
+                                   bool(job.get("across_seams", True)), job.get("extensions"))
+        report = read_report(job["output_dir"])
+        if (report is None or report.get("inputs_sha256") != digest
+                or report.get("params") != json.loads(json.dumps(job["params"].to_dict()))
+                or not isinstance(report.get("files"), dict)):
+            return None
+        for name, entry in report["files"].items():
+            path = Path(job["output_dir"]) / name
+            if Path(name).name != name or not path.is_file() or path.stat().st_size != entry["bytes"]:
+                return None
+    except (PaintReliefError, OSError, ValueError, TypeError, KeyError):
+        return None
+    return report
+
+
+def memory_bound(jobs: List[dict]) -> int:
+    """How many of ``jobs`` can be painted at once in the memory available: the available bytes over the largest
+    job's estimate (``files.budget.estimate_bytes`` of its texture), at least 1; no bound when either is
+    unknown."""
+    from ..files import budget
+
+    available = budget.available_bytes()
+    largest = max((budget.estimate_bytes(side, side, job["params"].layers) for job in jobs
+                   for side in [texture_side(job)] if side), default=0)
+    if available is None or largest <= 0:
+        return max(1, len(jobs))
+    return max(1, int(available // largest))
+
+
+def texture_side(job: dict) -> int:
+    """A job's texture side in texels: its texture size, else its first source's longest side; 0 when unknown."""
+    from ..files import reading
+
+    if isinstance(job.get("texture_size"), int):
+        return int(job["texture_size"])
+    texture = job["texture_path"]
+    first = texture[0] if isinstance(texture, (list, tuple)) and texture else texture
+    try:
+        width, height, _ = reading.probe(first, job["params"].max_megapixels)
+    except (PaintReliefError, OSError, TypeError, ValueError):
+        return 0
+    return max(width, height)
+
+
+def python_program() -> Optional[str]:
+    """The Python interpreter to start workers with: ``sys.executable`` (inside Blender 2.91 and later its bundled
+    Python, with the bpy module the venv's), None when that is no file or is a Blender program."""
+    program = sys.executable
+    if not program or not os.path.isfile(program) or Path(program).name.lower().startswith("blender"):
+        return None
+    return program
+
+
+def worker_environment() -> dict:
+    """The environment of a worker: this one, with this process's path on PYTHONPATH after ``ROOT`` (so it
+    imports ``core`` as a package of its own and finds the wheels this process finds).
+
+    The threads of the numerical libraries (OpenBLAS) are left as they are here: their number changes the
+    painter's bytes (one OpenBLAS thread against two give another height.exr and strokes.json), so a worker
+    must use as many as ``paint_object`` called here would."""
+    environment = dict(os.environ)
+    paths = []
+    for entry in [str(ROOT)] + [str(p) for p in sys.path if p]:
+        if entry not in paths:
+            paths.append(entry)
+    environment["PYTHONPATH"] = os.pathsep.join(paths)
+    return environment
+
+
+class Worker:
+    """One running worker process painting job ``index``, and the thread reading its progress into ``events``."""
+
+    def __init__(self, python: str, folder: Path, index: int, threads: int, events: queue.Queue):
+        self.index = index
+        self.error_log = open(folder / f"{index}.stderr", "wb")
+        self.process = subprocess.Popen(
+            [python, "-m", "core.objects.worker", str(folder), str(index), str(threads)], cwd=str(ROOT),
+            env=worker_environment(), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self.error_log,
+            encoding="utf-8", errors="replace", start_new_session=os.name == "posix",
+            creationflags=getattr(subprocess, "CREATE_NO_WINDOW", 0))
+        self.reader = threading.Thread(target=self.read, args=(events,), daemon=True)
+        self.reader.start()
+
+    def read(self, events: queue.Queue) -> None:
+        """Put (index, fraction, message) on ``events`` for each line of progress, (index, None, None) at the end."""
+        for line in self.process.stdout:
+            tag, _, rest = line.partition(" ")
+            if tag == PROGRESS_TAG:
+                try:
+                    fraction, message = json.loads(rest)
+                except (ValueError, TypeError):
+                    continue
+                events.put((self.index, fraction, message))
+        events.put((self.index, None, None))
+
+    def close(self) -> None:
+        """Wait for the process's end (it has ended or been killed) and close its streams."""
+        self.process.wait()
+        self.reader.join()
+        self.process.stdout.close()
+        self.error_log.close()
+
+
+def in_processes(python: str, jobs: Dict[int, dict], todo: List[int], count: int, outcomes: list,
+                 speak: Progress, cancel: CancelFn) -> None:
+    """Paint the jobs ``todo`` (indices into ``jobs``) in up to ``count`` worker processes at once, the largest
+    textures first, setting their ``outcomes``; Cancelled when ``cancel()`` says so (module docstring)."""
+    cores = core_count()
+    with tempfile.TemporaryDirectory(prefix="paint-relief-objects-", ignore_cleanup_errors=True) as name:
+        folder = Path(name)
+        pending = []
+        for k in sorted(todo, key=lambda k: -texture_side(jobs[k])):
+            try:
+                write_job(folder, k, jobs[k])
+                pending.append(k)
+            except PaintReliefError as exc:
+                outcomes[k] = ObjectOutcome(None, exc)
+                speak(k, 1.0, "not painted")
+            except OSError as exc:
+                raise errors.OutputError(f"Cannot hand the objects over to worker processes in {folder}: "
+                                         f"{errors.plain_cause(exc, folder)}.") from None
+        events: queue.Queue = queue.Queue()
+        running: Dict[int, Worker] = {}
+        ended = set()
+        try:
+            while pending or running:
+                while pending and len(running) < count:
+                    k = pending.pop(0)
+                    at_once = min(count, len(pending) + len(running) + 1)
+                    threads = max(1, min(tuning.MAX_WORKERS, cores // at_once))
+                    running[k] = Worker(python, folder, k, threads, events)
+                try:
+                    event = events.get(timeout=WAIT_SECONDS)
+                    while True:
+                        k, fraction, message = event
+                        if fraction is None:
+                            ended.add(k)
+                        else:
+                            speak(k, fraction, message)
+                        event = events.get_nowait()
+                except queue.Empty:
+                    pass
+                for k in [k for k in running if k in ended and running[k].process.poll() is not None]:
+                    running.pop(k).close()
+                    outcomes[k] = worker_outcome(folder, k, jobs[k])
+                    speak(k, 1.0, "painted" if outcomes[k].ok else "not painted")
+                if cancel is not None and cancel():
+                    raise cancelled(outcomes)
+        finally:
+            stop(folder, list(running.values()))
+
+
+def stop(folder: Path, workers: List[Worker]) -> None:
+    """Ask ``workers`` to stop (``worker.STOP_FILE``), give them ``STOP_SECONDS`` together, kill those still
+    running, and wait for all."""
+    if not workers:
+        return
+    (folder / STOP_FILE).touch()
+    deadline = time.monotonic() + STOP_SECONDS
+    for worker in workers:
+        try:
+            worker.process.wait(timeout=max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            worker.process.kill()
+        worker.close()
+
+
+def worker_outcome(folder: Path, k: int, job: dict) -> ObjectOutcome:
+    """Job ``k``'s outcome from the result its worker wrote into ``folder``; a one-sentence PaintReliefError with
+    the last line the worker wrote on stderr when it ended without one."""
+    try:
+        result = json.loads((folder / result_name(k)).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        lines = (folder / f"{k}.stderr").read_text(encoding="utf-8", errors="replace").strip().splitlines()
+        said = f", its last words: {lines[-1].strip().rstrip('.')}" if lines else ""
+        return ObjectOutcome(None, PaintReliefError(
+            f"Painting object {k + 1} into {job['output_dir']} ended without a result{said}."))
+    if "report" in result:
+        return ObjectOutcome(dict(result["report"], batch=PAINTED), None)
+    kind = getattr(errors, result["error"]["kind"], PaintReliefError)
+    if not (isinstance(kind, type) and issubclass(kind, PaintReliefError)):
+        kind = PaintReliefError
+    return ObjectOutcome(None, kind(result["error"]["message"]))
