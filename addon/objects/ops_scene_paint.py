@@ -19,6 +19,7 @@ changed. An object that cannot be painted is named in one sentence in the
 report (and in ``paint_scene.json`` of the folder); the others are painted.
 """
 
+import contextlib
 import json
 import os
 import shutil
@@ -36,6 +37,9 @@ from ..settings import properties
 from . import object_material, scene_jobs, scene_view, surface
 from .ops_object import gather, object_params
 
+WIDTH_DECIMALS = 2
+"""The camera's stroke widths are rounded to hundredths of a millimetre, so that a painted scene, whose relief
+moves its objects' boxes by a hair, reads the same widths again and keeps its paintings."""
 REPORT_FILE = "paint_scene.json"
 """The file in the scene's folder that says what the last Paint Scene painted, kept, and could not paint."""
 
@@ -57,8 +61,12 @@ def scene_targets(context, selected_only):
     sentence) when there is nothing to paint."""
     scene = context.scene
     frames = scene_view.scanned_frames(scene.frame_start, scene.frame_end)
-    depths = {} if selected_only and scene.camera is None else scene_view.seen_meshes(scene, context.view_layer,
-                                                                                       frames)
+    with contextlib.ExitStack() as originals:     # the objects' boxes without the relief of an earlier painting
+        for obj in context.view_layer.objects:
+            if obj.type == "MESH":
+                originals.enter_context(object_material.original_shown(obj))
+        depths = {} if selected_only and scene.camera is None else scene_view.seen_meshes(
+            scene, context.view_layer, frames)
     if selected_only:
         names = sorted(obj.name for obj in context.selected_objects if obj.type == "MESH")
         if not names:
@@ -87,7 +95,8 @@ def scene_stroke_mm(context, params, depths):
                          "strokes: give Stroke Widths in millimetres.".format(scene.name))
     width, height = scene_view.render_size(scene)
     pixel = scene_view.pixel_mm(scene, depth)
-    return core.screen_stroke_mm(params, width, height, pixel), {
+    widths = tuple(round(width_mm, WIDTH_DECIMALS) for width_mm in core.screen_stroke_mm(params, width, height, pixel))
+    return widths, {
         "chosen_by": "camera", "camera": scene.camera.name, "typical_depth_m": depth, "pixel_mm": pixel,
         "render_px": [width, height]}
 

@@ -153,7 +153,7 @@ def scene_painted():
             "stroke_mm": found["stroke_mm"], "how": found["stroke_mm_from"],
             "expected_depth": statistics.median(centre_depths),
             "expected_mm": list(paint_relief.core.screen_stroke_mm(
-                params, 640, 360, scene_view.pixel_mm(scene, found["stroke_mm_from"]["typical_depth_m"]))),
+                params, 640, 360, scene_view.pixel_mm(scene, statistics.median(centre_depths)))),
             "materials": {name: [slot.material.name for slot in scene.objects[name].material_slots]
                           for name in ("Box", "Box Twin", "Ball", "Plane Without UVs")},
             "files": sorted(os.listdir(os.path.join(WORK, "scene")))}
