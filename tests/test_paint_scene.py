@@ -57,6 +57,16 @@ def test_painting_again_keeps_every_texture_and_writes_nothing(found):
     assert again["painted"] == ["Ball", "Box", "Box Twin"]
 
 
+def test_a_stopped_run_keeps_what_it_finished_and_painting_again_gives_the_bytes_of_a_run_never_stopped(found):
+    stopped = _step(found, "stopped_and_painted_again")
+    assert stopped["outcome"] != "finished" and "cancelled" in stopped["outcome"]
+    assert len(stopped["done_when_stopped"]) == 1
+    assert stopped["result"] == ["FINISHED"], stopped["error"]
+    kept = stopped["done_when_stopped"][0]
+    assert stopped["kept"] == {"Ball": kept == "Ball", "Box": kept == "Box"}
+    assert stopped["same_bytes"] == {"Ball": True, "Box": True}, stopped["differ"]
+
+
 def test_the_selection_alone_is_painted_when_asked(found):
     selection = _step(found, "selection_alone")
     assert selection.get("result") == ["FINISHED"], selection
