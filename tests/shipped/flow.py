@@ -422,6 +422,29 @@ def main(zip_path, work):
                 "displace_uv": displace.uv_layer if displace else None, "back": back, "original": original}
 
     @step
+    def paint_scene_of_the_selection():
+        """Two objects, a ball of the generated image and a baked box, painted by Paint Scene side by side."""
+        bpy.ops.object.select_all(action="DESELECT")
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=16, ring_count=8, location=(6.0, 0.0, 0.0))
+        ball = bpy.context.active_object
+        ball.name = "Scene Ball"
+        ball.data.materials.append(bpy.data.materials["Generated colour"])
+        bpy.ops.mesh.primitive_cube_add(size=0.5, location=(6.0, 2.0, 0.0))
+        box = bpy.context.active_object
+        box.name = "Scene Box"
+        box.data.materials.append(bpy.data.materials["Plain colour"])
+        ball.select_set(True)
+        settings.scene_output_dir = os.path.join(work, "scene")
+        settings.object_stroke_mm = "40,20,10"
+        result, error = run_op(ops.paint_scene, texture_size=64, selected_only=True)
+        settings.object_stroke_mm = ""
+        path = os.path.join(work, "scene", "paint_scene.json")
+        found = json.load(open(path)) if os.path.isfile(path) else {}
+        return {"result": result, "error": error, "painted": sorted(found.get("painted", {})),
+                "refused": found.get("refused"), "folders": sorted(os.listdir(settings.scene_output_dir)),
+                "slots": [slot.material.name for obj in (ball, box) for slot in obj.material_slots]}
+
+    @step
     def user_world_survives_add_lights_and_reload():
         world = bpy.data.worlds.new("My World")
         scene.world = world

@@ -175,3 +175,11 @@ def test_paint_object_paints_udim_tiles_and_a_baked_slot_each_from_its_own_sourc
     assert found["slots"] == ["Paint Relief Tiled box", "Paint Relief Tiled box 2"]
     assert found["tiled"] == ["FILE", "TILED"] and found["displace_uv"] == "Paint Relief Atlas"
     assert found["back"] == ["FINISHED"] and found["original"] == ["Tiles", "Plain"]
+
+
+def test_paint_scene_paints_the_selection_side_by_side_from_the_zip(flow):
+    found = _step(flow, "paint_scene_of_the_selection")
+    assert found["result"] == ["FINISHED"], found["error"]
+    assert found["painted"] == ["Scene Ball", "Scene Box"] and found["refused"] == {}
+    assert found["folders"] == ["Scene Ball", "Scene Box", "paint_scene.json"]
+    assert found["slots"] == ["Paint Relief Scene Ball", "Paint Relief Scene Box"]
