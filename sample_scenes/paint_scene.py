@@ -154,26 +154,16 @@ def show_paper(objects, maps, painted, object_material, surface):
             slot.material = made[key]
 
 
-def width_agreement(reports):
-    """{"per_layer": [max/min over the textures of their median stroke width (mm) of layer k], "worst": the
-    largest}: how far the stroke widths laid on the textures of ``reports`` ({folder: report.json}) stray from
-    one another, each texture's width of a layer the median over its islands weighted by their strokes."""
-    import numpy as np
-
-    layers = {}
-    for report in reports.values():
-        medians = {}
-        for island in report.get("islands", []):
-            for k, width in enumerate(island.get("stroke_mm_median_per_layer") or []):
-                if width is not None:
-                    medians.setdefault(k, []).append((width, island["strokes"]))
-        for k, found in medians.items():
-            widths, weights = np.array(found).T
-            order = np.argsort(widths)
-            cumulative = np.cumsum(weights[order])
-            layers.setdefault(k, []).append(float(widths[order][np.searchsorted(cumulative, cumulative[-1] / 2)]))
-    ratios = [max(v) / min(v) for _, v in sorted(layers.items()) if len(v) > 1 and min(v) > 0]
-    return {"per_layer": [round(r, 3) for r in ratios], "worst": round(max(ratios), 3) if ratios else None}
+def width_agreement(reports, stroke_mm):
+    """How far the stroke widths laid on the textures of ``reports`` ({folder: report.json}) stray from one
+    another: {"per_width": for each width of ``stroke_mm``, the widest over the narrowest (mm) of that width as
+    laid on every island of every texture, "worst": the largest, "islands": how many}. An island lays width w
+    as a whole number of its texels, at least 2 (``island_sizes``): round(w / texel) texels of texel mm."""
+    laid = [[max(2, round(width / island["texel_mm"])) * island["texel_mm"] for width in stroke_mm]
+            for report in reports.values() for island in report.get("islands", [])]
+    ratios = [max(column) / min(column) for column in zip(*laid, strict=True)] if laid else []
+    return {"per_width": [round(r, 3) for r in ratios], "worst": round(max(ratios), 3) if ratios else None,
+            "islands": len(laid)}
 
 
 def film_figures(core, films, shot_frames, out):
@@ -282,7 +272,7 @@ def main(argv):
                                  int(scene.render.resolution_y * scene.render.resolution_percentage / 100)],
                    "texture_size": args.texture_size, "samples": args.samples, "relief": args.relief,
                    "stroke_mm": painted_scene["stroke_mm"], "stroke_mm_from": painted_scene["stroke_mm_from"],
-                   "stroke_width_agreement": width_agreement(reports),
+                   "stroke_width_agreement": width_agreement(reports, painted_scene["stroke_mm"]),
                    "objects": {name: dict(entry, strokes=reports[entry["folder"]].get("strokes"),
                                           islands=len(reports[entry["folder"]].get("islands", [])))
                                for name, entry in painted_scene["painted"].items()},
