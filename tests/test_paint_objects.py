@@ -180,11 +180,16 @@ def test_one_process_paints_in_this_process_with_the_same_bytes(tmp_path, alone,
 
 def test_a_worker_that_ends_without_a_result_is_one_sentence_and_no_python_paints_here(tmp_path, alone, own_temp,
                                                                                       monkeypatch):
-    monkeypatch.setattr(side_by_side, "python_program", lambda: shutil.which("false"))
+    crashing = tmp_path / "crashing"
+    crashing.write_text("#!/bin/sh\necho 'Segmentation fault.' >&2\nexit 139\n")
+    crashing.chmod(0o755)
+    monkeypatch.setattr(side_by_side, "python_program", lambda: str(crashing))
     jobs = scene_jobs(tmp_path)[:2]
     outcomes = core.paint_objects(jobs, processes=2)
     assert [str(o.error) for o in outcomes] == [
-        f"Painting object {k + 1} into {job['output_dir']} ended without a result." for k, job in enumerate(jobs)]
+        f"Painting object {k + 1} into {job['output_dir']} ended without a result, its last words: Segmentation "
+        f"fault." for k, job in enumerate(jobs)]
+    assert not any(Path(job["output_dir"]).exists() for job in jobs)
     monkeypatch.setattr(side_by_side, "python_program", lambda: None)
     heard = []
     outcomes = core.paint_objects(jobs, processes=2, notice=heard.append)
