@@ -30,7 +30,7 @@ from .. import errors, tuning
 from ..errors import Cancelled, PaintReliefError, ParameterError
 from ..progress import CancelFn, ProgressFn
 from .jobs import checked_job, write_job
-from .worker import PROGRESS_TAG, STOP_FILE, result_name
+from .worker import DONE_TAG, PROGRESS_TAG, STOP_FILE, result_name
 
 ROOT = Path(__file__).resolve().parents[2]
 """The folder holding the ``core`` package (the extension's own folder inside Blender): the workers' path."""
@@ -249,33 +249,61 @@ def worker_environment() -> dict:
 
 
 class Worker:
-    """One running worker process painting job ``index``, and the thread reading its progress into ``events``."""
+    """A running worker process (``worker``), the job it paints (None: idle) and the thread reading what it says
+    into ``events``: (worker, job, fraction, message) for progress, (worker, job, None, DONE_TAG) when the job's
+    result is written, (worker, None, None, None) at its end."""
 
-    def __init__(self, python: str, folder: Path, index: int, threads: int, events: queue.Queue):
-        self.index = index
-        self.error_log = open(folder / f"{index}.stderr", "wb")
+    def __init__(self, python: str, folder: Path, number: int, threads: int, events: queue.Queue):
+        self.job: Optional[int] = None
+        self.error_path = folder / f"worker{number}.stderr"
+        self.error_log = open(self.error_path, "wb")
         self.process = subprocess.Popen(
-            [python, "-m", "core.objects.worker", str(folder), str(index), str(threads)], cwd=str(ROOT),
-            env=worker_environment(), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self.error_log,
+            [python, "-m", "core.objects.worker", str(folder), str(threads)], cwd=str(ROOT),
+            env=worker_environment(), stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.error_log,
             encoding="utf-8", errors="replace", start_new_session=os.name == "posix",
             creationflags=getattr(subprocess, "CREATE_NO_WINDOW", 0))
         self.reader = threading.Thread(target=self.read, args=(events,), daemon=True)
         self.reader.start()
 
     def read(self, events: queue.Queue) -> None:
-        """Put (index, fraction, message) on ``events`` for each line of progress, (index, None, None) at the end."""
+        """Put what the worker says on ``events`` (class docstring)."""
         for line in self.process.stdout:
-            tag, _, rest = line.partition(" ")
-            if tag == PROGRESS_TAG:
-                try:
-                    fraction, message = json.loads(rest)
-                except (ValueError, TypeError):
-                    continue
-                events.put((self.index, fraction, message))
-        events.put((self.index, None, None))
+            words = line.split(" ", 2)
+            try:
+                if words[0] == PROGRESS_TAG and len(words) == 3:
+                    fraction, message = json.loads(words[2])
+                    events.put((self, int(words[1]), float(fraction), str(message)))
+                elif words[0] == DONE_TAG and len(words) == 2:
+                    events.put((self, int(words[1]), None, DONE_TAG))
+            except (ValueError, TypeError):
+                continue
+        events.put((self, None, None, None))
+
+    def paint(self, k: int) -> bool:
+        """Hand job ``k`` to the worker; False when it cannot take it (it has ended)."""
+        self.job = k
+        try:
+            self.process.stdin.write(f"paint {k}\n")
+            self.process.stdin.flush()
+        except (OSError, ValueError):
+            return False
+        return True
+
+    def finish(self) -> None:
+        """Tell the worker that no job follows (it ends after the one it paints)."""
+        try:
+            self.process.stdin.close()
+        except OSError:
+            pass
+
+    def last_words(self) -> str:
+        """The last line the worker wrote on stderr, '' for none."""
+        lines = self.error_path.read_text(encoding="utf-8", errors="replace").strip().splitlines()
+        return lines[-1].strip().rstrip(".") if lines else ""
 
     def close(self) -> None:
         """Wait for the process's end (it has ended or been killed) and close its streams."""
+        self.finish()
         self.process.wait()
         self.reader.join()
         self.process.stdout.close()
@@ -284,9 +312,11 @@ class Worker:
 
 def in_processes(python: str, jobs: Dict[int, dict], todo: List[int], count: int, outcomes: list,
                  speak: Progress, cancel: CancelFn) -> None:
-    """Paint the jobs ``todo`` (indices into ``jobs``) in up to ``count`` worker processes at once, the largest
-    textures first, setting their ``outcomes``; Cancelled when ``cancel()`` says so (module docstring)."""
-    cores = core_count()
+    """Paint the jobs ``todo`` (indices into ``jobs``) in ``count`` worker processes, each taking the next job
+    when it is done, the largest textures first, setting their ``outcomes``; Cancelled when ``cancel()`` says so
+    (module docstring). A worker that ends without a job's result fails that job and is replaced while jobs
+    wait."""
+    threads = max(1, min(tuning.MAX_WORKERS, core_count() // count))
     with tempfile.TemporaryDirectory(prefix="paint-relief-objects-", ignore_cleanup_errors=True) as name:
         folder = Path(name)
         pending = []
@@ -301,42 +331,58 @@ def in_processes(python: str, jobs: Dict[int, dict], todo: List[int], count: int
                 raise errors.OutputError(f"Cannot hand the objects over to worker processes in {folder}: "
                                          f"{errors.plain_cause(exc, folder)}.") from None
         events: queue.Queue = queue.Queue()
-        running: Dict[int, Worker] = {}
-        ended = set()
+        workers: List[Worker] = []
+        started = 0
         try:
-            while pending or running:
-                while pending and len(running) < count:
-                    k = pending.pop(0)
-                    at_once = min(count, len(pending) + len(running) + 1)
-                    threads = max(1, min(tuning.MAX_WORKERS, cores // at_once))
-                    running[k] = Worker(python, folder, k, threads, events)
+            while pending or any(worker.job is not None for worker in workers):
+                while len(workers) < count and sum(worker.job is None for worker in workers) < len(pending):
+                    workers.append(Worker(python, folder, started, threads, events))
+                    started += 1
+                for worker in workers:
+                    if worker.job is None and pending:
+                        worker.paint(pending.pop(0))
                 try:
                     event = events.get(timeout=WAIT_SECONDS)
                     while True:
-                        k, fraction, message = event
-                        if fraction is None:
-                            ended.add(k)
-                        else:
-                            speak(k, fraction, message)
+                        handle(event, folder, jobs, workers, outcomes, speak)
                         event = events.get_nowait()
                 except queue.Empty:
                     pass
-                for k in [k for k in running if k in ended and running[k].process.poll() is not None]:
-                    running.pop(k).close()
-                    outcomes[k] = worker_outcome(folder, k, jobs[k])
-                    speak(k, 1.0, "painted" if outcomes[k].ok else "not painted")
                 if cancel is not None and cancel():
                     raise cancelled(outcomes)
         finally:
-            stop(folder, list(running.values()))
+            stop(folder, workers)
+
+
+def handle(event: tuple, folder: Path, jobs: Dict[int, dict], workers: List["Worker"], outcomes: list,
+           speak: Progress) -> None:
+    """Take one event of a worker (``Worker``): its progress spoken, a job's result read into ``outcomes``, or
+    its end, which fails the job it painted and takes it out of ``workers``."""
+    worker, k, fraction, message = event
+    if fraction is not None:
+        speak(k, fraction, message)
+    elif message == DONE_TAG:
+        outcomes[k] = worker_outcome(folder, k)
+        worker.job = None
+        speak(k, 1.0, "painted" if outcomes[k].ok else "not painted")
+    else:
+        workers.remove(worker)
+        worker.close()
+        if worker.job is not None:
+            said = worker.last_words()
+            outcomes[worker.job] = ObjectOutcome(None, PaintReliefError(
+                f"Painting object {worker.job + 1} into {jobs[worker.job]['output_dir']} ended without a result"
+                f"{', its last words: ' + said if said else ''}."))
+            speak(worker.job, 1.0, "not painted")
 
 
 def stop(folder: Path, workers: List[Worker]) -> None:
-    """Ask ``workers`` to stop (``worker.STOP_FILE``), give them ``STOP_SECONDS`` together, kill those still
-    running, and wait for all."""
-    if not workers:
-        return
-    (folder / STOP_FILE).touch()
+    """Tell ``workers`` that no job follows, ask those painting to stop (``worker.STOP_FILE``), give them
+    ``STOP_SECONDS`` together, kill those still running, and wait for all."""
+    if any(worker.job is not None for worker in workers):
+        (folder / STOP_FILE).touch()
+    for worker in workers:
+        worker.finish()
     deadline = time.monotonic() + STOP_SECONDS
     for worker in workers:
         try:
@@ -346,16 +392,9 @@ def stop(folder: Path, workers: List[Worker]) -> None:
         worker.close()
 
 
-def worker_outcome(folder: Path, k: int, job: dict) -> ObjectOutcome:
-    """Job ``k``'s outcome from the result its worker wrote into ``folder``; a one-sentence PaintReliefError with
-    the last line the worker wrote on stderr when it ended without one."""
-    try:
-        result = json.loads((folder / result_name(k)).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        lines = (folder / f"{k}.stderr").read_text(encoding="utf-8", errors="replace").strip().splitlines()
-        said = f", its last words: {lines[-1].strip().rstrip('.')}" if lines else ""
-        return ObjectOutcome(None, PaintReliefError(
-            f"Painting object {k + 1} into {job['output_dir']} ended without a result{said}."))
+def worker_outcome(folder: Path, k: int) -> ObjectOutcome:
+    """Job ``k``'s outcome from the result its worker wrote into ``folder``."""
+    result = json.loads((folder / result_name(k)).read_text(encoding="utf-8"))
     if "report" in result:
         return ObjectOutcome(dict(result["report"], batch=PAINTED), None)
     kind = getattr(errors, result["error"]["kind"], PaintReliefError)
