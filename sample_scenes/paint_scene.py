@@ -19,7 +19,7 @@ Steps, each printed with its time:
    (``renders/relit``), the original materials (``renders/original``) and the paper's Eq. 6-7 lighting of each
    texture as emission (``renders/paper``), as multilayer EXR;
 4. ``shot``: the original film painted as a 2-D shot by ``core sequence`` with its Vector pass
-   (``shot/``);
+   (``shot/``, painted anew as ``shot.partial/`` and put in the place of an earlier one once whole);
 5. ``figures``: the four films as PNG frames in ``film/relit``, ``film/original``, ``film/paper`` and
    ``film/shot``, and ``film/side_by_side`` (original | relit above, paper | shot below); ``scene.json`` with
    each film's warping error from frame to frame by the Vector pass (the relit and paper films by their own
@@ -255,11 +255,13 @@ def main(argv):
 
         step("shot")
         params = ops_paint.params_from_settings(scene.paint_relief).validate_shot()
-        core.paint_sequence_files([str(path) for path in films["original"]], out / "shot", params)
+        # The films are rendered anew each run, so the shot is painted anew, beside the earlier one until done.
+        partial_shot = out / "shot.partial"
+        shutil.rmtree(partial_shot, ignore_errors=True)
+        core.paint_sequence_files([str(path) for path in films["original"]], partial_shot, params)
+        shutil.rmtree(out / "shot", ignore_errors=True)
+        partial_shot.replace(out / "shot")
         shot_frames = sorted((out / "shot").glob("painting_*.png"))
-        if len(shot_frames) != len(films["original"]):
-            raise Failure(f"The 2-D shot in {out / 'shot'} holds {len(shot_frames)} painted frames, not the "
-                          f"{len(films['original'])} rendered: remove the folder and run again.")
 
         step("figures")
         statistics = film_figures(core, films, shot_frames, out)
