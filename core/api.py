@@ -39,7 +39,8 @@ def check_input(input_path, params: Params, mask_path: Optional[str] = None,
 
 def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
                mask_path: Optional[str] = None, max_memory: Optional[int] = None, normal_map: bool = False,
-               notice: Optional[Callable[[str], None]] = None, strokes_to_lay: bool = False) -> dict:
+               notice: Optional[Callable[[str], None]] = None, strokes_to_lay: bool = False,
+               timelapse: int = 0) -> dict:
     """Read ``input_path``, paint it and write every output into ``output_dir``; return the report.
 
     Checks everything it can from headers first (``check_input``, and the
@@ -57,10 +58,16 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     With ``normal_map`` normal.exr is written too (``export.write_painting``). report.json records the input
     file's SHA-256 ("input_sha256", read before the image), by which ``paint_batch`` knows the painting again.
     With ``strokes_to_lay``, strokes.json also records what laying each stroke again needs (``lay_file``).
+    timelapse: 0 for none, else the frames (1 to ``files.timelapse.MAX_FRAMES``, ParameterError in one sentence
+    otherwise) of the painting being painted, written as a painted shot into OUTDIR/timelapse/ and committed
+    with the painting (``painting_timelapse``); report.json records it under "timelapse".
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
+    from .files.timelapse import TIMELAPSE_DIR, check_frames
     from .methods.registry import paint
 
+    if timelapse:
+        check_frames(timelapse)
     width, height = check_input(input_path, params, mask_path, max_memory)
     budget.check_space(output_dir, input_path, width, height, normal_map)
     pages = reading.image_count(input_path)
@@ -71,13 +78,34 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     def painted():
         image = reading.read_image(input_path, params.max_megapixels, params.canvas_colour)
         mask = reading.read_gray(mask_path, params.max_megapixels, role="mask") if mask_path else None
-        return paint(image, params, progress=progress, cancel=cancel, mask=mask, record_strokes=strokes_to_lay)
+        if timelapse:
+            from .strokes.snapshots import Snapshots
+
+            caught["snapshots"] = Snapshots(image.shape[:2], timelapse)
+        return paint(image, params, progress=progress, cancel=cancel, mask=mask, record_strokes=strokes_to_lay,
+                     snapshots=caught.get("snapshots"))
 
     def written(staging: Path, painting) -> dict:
+        if timelapse:
+            painting.statistics["timelapse"] = painting_timelapse(staging, painting, caught["snapshots"],
+                                                                  str(input_path))
         return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)
 
+    caught: dict = {}
     return committed_painting(output_dir, input_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()),
-                              painted, written)
+                              painted, written, (TIMELAPSE_DIR,) if timelapse else ())
+
+
+def painting_timelapse(staging: Path, painting, snapshots, source: str) -> dict:
+    """Write the time-lapse of ``painting`` caught by ``snapshots`` (``strokes.snapshots.Snapshots``) into the
+    staging folder's ``files.timelapse.TIMELAPSE_DIR``; return its summary (``files.timelapse.write_timelapse``)."""
+    from .files.export import map_attributes
+    from .files.timelapse import TIMELAPSE_DIR, write_timelapse
+
+    frames = snapshots.frames(painting.params.canvas_colour, painting.colour, painting.height, painting.opacity)
+    return write_timelapse(staging / TIMELAPSE_DIR, frames, snapshots.frame_count, painting.orientation,
+                           map_attributes(painting.params), source, painting.params.to_dict(),
+                           {"step": snapshots.step, "snapshot_bytes": snapshots.held_bytes()})
 
 
 def stroke_list_params(document: dict, path) -> Params:
@@ -148,7 +176,7 @@ def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = No
 
 
 def committed_painting(output_dir, input_path, names: tuple, painted: Callable[[], object],
-                       written: Callable[[Path, object], dict]) -> dict:
+                       written: Callable[[Path, object], dict], folders: tuple = ()) -> dict:
     """The skeleton every entry that paints into a folder shares (``paint_file``, ``paint_object``); returns the
     report with its "output_dir".
 
@@ -157,11 +185,15 @@ def committed_painting(output_dir, input_path, names: tuple, painted: Callable[[
     ``names`` must go, paints (``painted()`` -> Painting) and commits what
     ``written(staging folder, painting)`` writes there (it returns the
     report) all together or not at all. A MemoryError becomes the
-    one-sentence ``out_of_memory`` naming ``input_path``.
+    one-sentence ``out_of_memory`` naming ``input_path``. ``folders``: the
+    names of folders ``written`` makes (a time-lapse), each replacing the
+    folder of its name at the commit, refused in one sentence when a file
+    stands there.
     """
     try:
         with output_folder(output_dir) as folder:
             folder.check_names(names)
+            folder.check_folders(list(folders))
             painting = painted()
             with folder.staged() as staging:
                 report = written(staging, painting)

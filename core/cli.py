@@ -166,6 +166,9 @@ def build_parser() -> argparse.ArgumentParser:
     paint_p.add_argument("--strokes-to-lay", action="store_true",
                          help="record in strokes.json what laying each stroke again needs (its brush, curve and "
                               "bristle colours), so `core lay` can lay the list, edited or not: about 7x its size")
+    paint_p.add_argument("--timelapse", type=_timelapse_frames, default=0, metavar="N",
+                         help="also write OUTDIR/timelapse/: N frames (1 to 1000) of the painting being painted, "
+                              "stroke after stroke, as a painted shot's folder (Build Canvas animates it)")
     paint_p.set_defaults(run=run_paint)
     _add_sequence_parser(sub)
     _add_batch_parser(sub)
@@ -218,6 +221,20 @@ def run_analyze(args: argparse.Namespace, progress) -> None:
         raise out_of_memory(args.input) from None
 
 
+def _timelapse_frames(text: str) -> int:
+    """--timelapse's value: a whole number of frames from 1 to ``files.timelapse.MAX_FRAMES``."""
+    from .files.timelapse import MAX_FRAMES
+
+    try:
+        frames = int(text)
+    except ValueError:
+        frames = None
+    if frames is None or not 1 <= frames <= MAX_FRAMES:
+        raise argparse.ArgumentTypeError(f"the time-lapse takes a whole number of frames from 1 to {MAX_FRAMES}, "
+                                         f"got {text!r}")
+    return frames
+
+
 def run_paint(args: argparse.Namespace, progress) -> None:
     """The ``paint`` subcommand, with the C heap tuned for painting (this process is the painter's own)."""
     from .api import paint_file
@@ -226,7 +243,8 @@ def run_paint(args: argparse.Namespace, progress) -> None:
     with reused_heap():
         paint_file(args.input, args.output, params_from_args(args), progress=progress, mask_path=args.mask,
                    max_memory=max_memory(args), normal_map=args.normal_map,
-                   notice=lambda text: _notice(progress, text), strokes_to_lay=args.strokes_to_lay)
+                   notice=lambda text: _notice(progress, text), strokes_to_lay=args.strokes_to_lay,
+                   timelapse=args.timelapse)
 
 
 def _add_files_parser(sub, name: str, summary: str, description: str, inputs: tuple,

@@ -47,6 +47,8 @@ STAGING_PREFIX = ".staging-"
 JOURNAL_NAME = ".paint-relief-commit.json"
 _JOURNAL_TEMP_PREFIX = JOURNAL_NAME + ".tmp-"
 PROBE_PREFIX = ".paint-relief-probe-"
+RETIRED_PREFIX = ".retired-"
+"""The name a committed folder (a time-lapse) that a new one replaces has between the two renames."""
 
 
 def _why(exc: OSError) -> str:
@@ -83,12 +85,24 @@ def _safe_name(name: object) -> bool:
 
 
 def _roll_forward(folder: pathlib.Path, staging_name: str, names: List[str]) -> None:
-    """Move every named file still in the staging folder into ``folder``; then drop the journal and staging."""
+    """Move every named file still in the staging folder into ``folder``; then drop the journal and staging.
+
+    A staged folder (a time-lapse's) replaces the folder of its name: that one is renamed aside
+    (``RETIRED_PREFIX``), the new one renamed in, the old one removed; a run stopped in between is finished
+    the same way by the next (the old one is removed by ``recover``)."""
     staging = folder / staging_name
     for name in names:
-        source = staging / name
-        if os.path.lexists(source):
-            os.replace(source, folder / name)
+        source, target = staging / name, folder / name
+        if not os.path.lexists(source):
+            continue
+        if source.is_dir() and not source.is_symlink() and target.is_dir() and not target.is_symlink():
+            retired = folder / f"{RETIRED_PREFIX}{staging_name}-{name}"
+            shutil.rmtree(retired, ignore_errors=True)
+            os.replace(target, retired)
+            os.replace(source, target)
+            shutil.rmtree(retired, ignore_errors=True)
+        else:
+            os.replace(source, target)
     fsync_folder(folder)
     try:
         (folder / JOURNAL_NAME).unlink()
@@ -133,7 +147,7 @@ def recover(folder: pathlib.Path) -> None:
         except OSError:
             return
         for entry in entries:
-            if entry.name.startswith(STAGING_PREFIX) and entry.is_dir(follow_symlinks=False):
+            if entry.name.startswith((STAGING_PREFIX, RETIRED_PREFIX)) and entry.is_dir(follow_symlinks=False):
                 shutil.rmtree(entry.path, ignore_errors=True)
             elif entry.name.startswith((_JOURNAL_TEMP_PREFIX, PROBE_PREFIX)) or (
                     is_temporary_name(entry.name) and entry.is_file(follow_symlinks=False)):
@@ -190,12 +204,16 @@ class OutputFolder:
         try:
             yield staging
             names = sorted(p.name for p in staging.iterdir())
-            self._check_targets(names)
+            self._check_targets([name for name in names if not (staging / name).is_dir()])
+            self._check_folders([name for name in names if (staging / name).is_dir()])
             for name in names:
-                try:
-                    _fsync_file(staging / name)
-                except OSError as exc:
-                    raise OutputError(f"Cannot write {name}: {_why(exc)}.", staging / name, _why(exc)) from exc
+                inner = sorted((staging / name).iterdir()) if (staging / name).is_dir() else []
+                for path in inner + [staging / name]:
+                    try:
+                        _fsync_file(path)
+                    except OSError as exc:
+                        raise OutputError(f"Cannot write {name}: {_why(exc)}.", staging / name,
+                                          _why(exc)) from exc
             fsync_folder(staging)
         except BaseException as exc:
             with signals.deferred():
@@ -223,6 +241,18 @@ class OutputFolder:
         """OutputError (one sentence naming the path) when something stands where one of the files ``names`` must
         go and could not be replaced: called before any work, so nothing is painted in vain."""
         self._check_targets(names)
+
+    def check_folders(self, names: List[str]) -> None:
+        """OutputError (one sentence naming the path) when a file stands where one of the folders ``names`` (a
+        time-lapse) must go: called before any work."""
+        self._check_folders(names)
+
+    def _check_folders(self, names: List[str]) -> None:
+        """OutputError when a target folder name is taken by something else than a folder."""
+        for name in names:
+            target = self.folder / name
+            if os.path.lexists(target) and not (target.is_dir() and not target.is_symlink()):
+                raise OutputError(f"Cannot write {target}: a file of that name is in the way.")
 
     def _check_targets(self, names: List[str]) -> None:
         """OutputError when a target name is taken by a folder (a rename could not replace it)."""

@@ -201,8 +201,10 @@ def write_failure_cause(temp: pathlib.Path) -> Optional[str]:
 
 
 def write_exr(path: PathLike, data: Union[np.ndarray, RowBlocks], channels: Optional[Sequence[str]] = None,
-              half: bool = False, attributes: Optional[Dict[str, object]] = None) -> None:
-    """Write float32 (H, W) or (H, W, C) ``data`` (or RowBlocks) as a zip-compressed OpenEXR file.
+              half: bool = False, attributes: Optional[Dict[str, object]] = None,
+              compression: str = "zip") -> None:
+    """Write float32 (H, W) or (H, W, C) ``data`` (or RowBlocks) as an OpenEXR file, zip-compressed unless
+    ``compression`` names another lossless OpenEXR compression ("rle", "zips", "piz", "none").
 
     ``channels`` names the C channels (default Y / R,G,B / R,G,B,A for 1 / 3 / 4
     channels); ``half=True`` stores 16-bit half floats, otherwise 32-bit
@@ -222,7 +224,7 @@ def write_exr(path: PathLike, data: Union[np.ndarray, RowBlocks], channels: Opti
     spec = oiio.ImageSpec(width, height, count, "half" if half else "float")
     spec.channelnames = names
     spec.alpha_channel = names.index("A") if "A" in names else -1
-    spec.attribute("compression", "zip")
+    spec.attribute("compression", compression)
     spec.attribute("DateTime", "")  # an empty DateTime stops OpenImageIO from stamping the current time
     spec.attribute(CHANNEL_ORDER_ATTR, ",".join(names))
     for name, value in (attributes or {}).items():
@@ -234,8 +236,10 @@ PNG_COMPRESSION = 3
 """zlib level of the PNGs: level 3 is several times faster than the highest and the files about 10 % larger."""
 
 
-def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8) -> None:
-    """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` (or RowBlocks) in [0, 1] as an 8- or 16-bit PNG.
+def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8,
+              level: int = PNG_COMPRESSION) -> None:
+    """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` (or RowBlocks) in [0, 1] as an 8- or 16-bit PNG,
+    zlib ``level`` (0 to 9) compressed.
 
     Values are quantised as ``floor(v * maxval + 0.5)`` clipped to
     [0, maxval] (maxval 255 or 65535; NaN becomes 0). Four channels are RGB
@@ -263,7 +267,7 @@ def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8)
     if count == 4:
         spec.attribute("oiio:UnassociatedAlpha", 1)
     spec.attribute("DateTime", "")
-    spec.attribute("png:compressionLevel", PNG_COMPRESSION)
+    spec.attribute("png:compressionLevel", int(level))
     _write_with_oiio(pathlib.Path(path), spec, image, quantise)
 
 

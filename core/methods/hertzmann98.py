@@ -163,14 +163,16 @@ def jitter_colours(colours: np.ndarray, style: HertzmannStyle, rng: np.random.Ge
 
 
 def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressionist", progress: ProgressFn = None,
-                    cancel: CancelFn = None, mask: Optional[np.ndarray] = None):
+                    cancel: CancelFn = None, mask: Optional[np.ndarray] = None, snapshots=None):
     """Paint an (H, W, 3) sRGB [0, 1] image by Hertzmann 1998 in the named style; returns a core.results.Painting.
 
     The Painting's analysis is core.analysis.analyze's (importance, partition,
     orientation of the paper's method, for the record); its orientation map is
     the direction of the topmost stroke at each pixel (where a stroke laid at
     least half its opacity), the analysis orientation elsewhere. Statistics
-    carry core.paint's keys plus method, style, layout, renderer and radii_px.
+    carry core.paint's keys plus method, style, layout, renderer and radii_px. snapshots: an optional
+    ``strokes.snapshots.Snapshots`` of the image's (H, W) that catches the canvas while the strokes are laid (a
+    time-lapse); the painting is the same with or without.
     """
     params.validate()
     chosen = get_style(style)
@@ -182,6 +184,7 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
     h, w = image.shape[:2]
     radii = scaled_radii(chosen.radii, h, w, params.size_reference_megapixels)
     canvas = Canvas.blank((h, w), params.canvas_colour)
+    canvas.snapshots = snapshots
     orientation = analysis.orientation.astype(np.float32, copy=True)
     rng = np.random.default_rng(params.seed)
     strokes: List[Stroke] = []
@@ -228,6 +231,7 @@ def paint_hertzmann(image: np.ndarray, params: Params, style: str = "impressioni
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-          mask: Optional[np.ndarray] = None) -> Painting:
-    """The registry's painter: ``paint_hertzmann`` in the style ``params.style``."""
-    return paint_hertzmann(image, params, params.style, progress=progress, cancel=cancel, mask=mask)
+          mask: Optional[np.ndarray] = None, snapshots=None) -> Painting:
+    """The registry's painter: ``paint_hertzmann`` in the style ``params.style`` (``snapshots`` as there)."""
+    return paint_hertzmann(image, params, params.style, progress=progress, cancel=cancel, mask=mask,
+                           snapshots=snapshots)

@@ -34,7 +34,7 @@ from .styles import get_style
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-          mask: Optional[np.ndarray] = None, record_strokes: bool = False) -> Painting:
+          mask: Optional[np.ndarray] = None, record_strokes: bool = False, snapshots=None) -> Painting:
     """Paint an (H, W, 3) sRGB [0, 1] image stroke by stroke: a still's recipe, declared here once.
 
     The analysis (``analyze``, with the optional (h, w) [0, 1] importance
@@ -44,7 +44,8 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
     is polled between rounds and raises Cancelled when it returns True.
     record_strokes: also hand back the laid strokes as a ``StrokeList``
     (``Painting.stroke_list``), which ``lay_strokes`` lays again to the same
-    bytes.
+    bytes. snapshots: an optional ``strokes.snapshots.Snapshots`` of the image's (H, W) that catches the canvas
+    while the strokes are laid (a time-lapse); the painting is the same with or without.
     """
     params.validate()
     image = check_image(image)
@@ -54,6 +55,7 @@ def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel
                        cancel=cancel)
     t0 = time.perf_counter()
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
+    canvas.snapshots = snapshots
     recorder = StrokeRecorder() if record_strokes else None
     strokes, per_layer = paint_strokes(canvas, image, analysis, params, stage.sub(0.15, 1.0), recorder,
                                        tips=tip_cache(brush, analysis.sizes, params.transparency))

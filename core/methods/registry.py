@@ -53,18 +53,21 @@ def painter(method: str) -> Painter:
 
 
 def paint(image: np.ndarray, params: Params, progress: ProgressFn = None, cancel: CancelFn = None,
-          mask: Optional[np.ndarray] = None, record_strokes: bool = False) -> Painting:
+          mask: Optional[np.ndarray] = None, record_strokes: bool = False, snapshots=None) -> Painting:
     """Paint an (H, W, 3) sRGB [0, 1] image with the method ``params.method``; returns its Painting.
 
     progress(fraction, message) is called now and then; cancel() is polled
     between strokes and raises Cancelled when it returns True. record_strokes: also keep the laid strokes
     (``Painting.stroke_list``) when the method can (``STROKE_PAINTERS``'s methods); other methods keep none.
+    snapshots: an optional ``strokes.snapshots.Snapshots`` catching the canvas while the strokes are laid (every
+    method takes one).
     """
     params.validate()
+    extra = {} if snapshots is None else {"snapshots": snapshots}
     if record_strokes and params.method in STROKE_PAINTERS:
         return PAINTERS[params.method](image, params, progress=progress, cancel=cancel, mask=mask,
-                                       record_strokes=True)
-    return painter(params.method)(image, params, progress=progress, cancel=cancel, mask=mask)
+                                       record_strokes=True, **extra)
+    return painter(params.method)(image, params, progress=progress, cancel=cancel, mask=mask, **extra)
 
 
 def stroke_painter(params: Params, what: str) -> StrokePainter:

@@ -14,6 +14,7 @@ from typing import Sequence, Tuple
 import numpy as np
 
 from ..files.frames import carry_vector_passes
+from ..files.timelapse import STILL_MOTION
 from .optical_flow import SEQUENCE_MEGAPIXELS, optical_flow
 from .vector_pass import motion_pair
 
@@ -39,8 +40,11 @@ def two_way_motion(before: np.ndarray, after: np.ndarray, source: str,
     or ``OPTICAL_FLOW_MOTION``, with the frames' sRGB [0, 1] pictures
     (float32 (H, W, 3)): flow forward and backward refined up to
     ``max_megapixels`` (the painter's ``SEQUENCE_MEGAPIXELS``; inf: at the
-    frames' own size).
+    frames' own size), or ``STILL_MOTION``: none, zeros of the pictures' (H, W).
     """
+    if source == STILL_MOTION:
+        still = np.zeros(before.shape[:2] + (2,), np.float32)
+        return still, still.copy()
     if source == VECTOR_PASS_MOTION:
         return motion_pair(before, after)
     return optical_flow(before, after, max_megapixels), optical_flow(after, before, max_megapixels)

@@ -23,6 +23,8 @@ class Canvas:
     first_row: the frame's row that row 0 holds; frame_height: the frame's rows (None: H, the canvas is the frame).
     Strokes are placed in the frame, and only what they lay on the canvas's rows is laid (``lay``).
     only: (H, W) bool, the pixels strokes are laid on, the others keeping what they hold (None: every pixel).
+    snapshots: a ``snapshots.Snapshots`` that catches the canvas while its strokes are laid, for a time-lapse
+    (None: not caught; a still's whole canvas only).
     """
 
     colour: np.ndarray
@@ -32,6 +34,7 @@ class Canvas:
     first_row: int = 0
     frame_height: Optional[int] = None
     only: Optional[np.ndarray] = None
+    snapshots: Optional[object] = None
 
     @classmethod
     def blank(cls, shape: tuple, canvas_colour, rows: Optional[Tuple[int, int]] = None) -> "Canvas":
@@ -52,6 +55,17 @@ class Canvas:
         return (self.frame_height or h, w)
 
     def lay(self, footprints: Footprints | list, height_mode: str, build: float, kept: np.ndarray = None) -> None:
+        """Lay a run of strokes' footprints on the canvas (``lay_run``), caught between strokes by the canvas's
+        ``snapshots`` when it has them (``snapshots.lay_caught``: the same canvas)."""
+        if self.snapshots is None:
+            self.lay_run(footprints, height_mode, build, kept)
+        else:
+            from .snapshots import lay_caught
+
+            lay_caught(self, [footprints] if isinstance(footprints, Footprints) else list(footprints), height_mode,
+                       build, kept)
+
+    def lay_run(self, footprints: Footprints | list, height_mode: str, build: float, kept: np.ndarray = None) -> None:
         """Lay a run of strokes' footprints on the canvas, each after the one before (ALGORITHM §5, §6).
 
         footprints: the run's Footprints, or a list of the Footprints of its

@@ -93,6 +93,8 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
     """
     found = line_distance(points, radius, canvas.height.shape, with_segments=orientation is not None)
     if found is None:
+        if canvas.snapshots is not None:
+            canvas.snapshots.laid(canvas, 1)
         return
     y0, x0, d, segment = found
     bh, bw = d.shape
@@ -122,3 +124,5 @@ def solid_stroke(canvas: Canvas, points: np.ndarray, radius: float, colour: np.n
             angles = np.mod(np.arctan2(step[:, 1], step[:, 0]), np.pi).astype(np.float32)
             top = a >= 0.5
             orientation[rows, cols][top] = angles[segment[top]]
+    if canvas.snapshots is not None:
+        canvas.snapshots.laid(canvas, 1, box=(rows, cols))
