@@ -68,9 +68,16 @@ def frame_task(folder: Path, number: int, colour: np.ndarray, height: np.ndarray
     mine = dict(attributes, **{"paint_relief:frame": str(number)})
 
     def write() -> list:
-        srgb = np.asarray(colour, np.float32)
-        writing.write_png(folder / names[0], srgb, level=PNG_LEVEL)
-        linear = writing.RowBlocks(srgb.shape, lambda y0, y1: srgb_to_linear(srgb[y0:y1]))
+        if colour.dtype == np.float16:
+            linear_table, png_table = half_tables()
+            bits = colour.view(np.uint16)
+            png = writing.RowBlocks(colour.shape, lambda y0, y1: png_table[bits[y0:y1]])
+            linear = writing.RowBlocks(colour.shape, lambda y0, y1: linear_table[bits[y0:y1]])
+        else:
+            srgb = np.asarray(colour, np.float32)
+            png = srgb
+            linear = writing.RowBlocks(srgb.shape, lambda y0, y1: srgb_to_linear(srgb[y0:y1]))
+        writing.write_png(folder / names[0], png, level=PNG_LEVEL)
         writing.write_exr(folder / names[1], linear, half=True, attributes=mine, compression=FRAME_COMPRESSION)
         for name, values in ((names[2], height), (names[3], opacity)):
             writing.write_exr(folder / name, np.asarray(values, np.float32), channels=("Y",), half=True,
@@ -138,3 +145,19 @@ def write_timelapse(folder, frames: Iterable, count: int, orientation_map: np.nd
               "per_frame": per_frame, "complete": True}
     writing.write_json(folder / REPORT_FILE, report)
     return summary
+
+
+def half_tables() -> tuple:
+    """(linear, png): for every float16 bit pattern v of an sRGB value, ``srgb_to_linear(v)`` as float32 and the
+    8-bit PNG value ``floor(v * 255 + 0.5)`` clipped to [0, 255] (NaN 0), as ``write_png`` quantises: a frame
+    held as float16 is converted by looking its values up, with the same numbers as converting it."""
+    if not _TABLES:
+        values = np.arange(1 << 16, dtype=np.uint16).view(np.float16).astype(np.float32)
+        finite = np.nan_to_num(values, nan=0.0, posinf=0.0, neginf=0.0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            png = np.clip(np.floor(np.nan_to_num(values, nan=0.0) * np.float32(255.0) + np.float32(0.5)), 0.0, 255.0)
+        _TABLES.extend([srgb_to_linear(finite), png.astype(np.uint8)])
+    return tuple(_TABLES)
+
+
+_TABLES: list = []

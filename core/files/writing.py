@@ -242,7 +242,8 @@ def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8,
     zlib ``level`` (0 to 9) compressed.
 
     Values are quantised as ``floor(v * maxval + 0.5)`` clipped to
-    [0, maxval] (maxval 255 or 65535; NaN becomes 0). Four channels are RGB
+    [0, maxval] (maxval 255 or 65535; NaN becomes 0); RowBlocks whose rows are
+    uint8 (8 bits) or uint16 (16 bits) are written as they are. Four channels are RGB
     plus straight (not premultiplied) alpha. Same data gives same bytes; the
     file is written atomically; failures raise OutputError naming it.
     """
@@ -256,6 +257,8 @@ def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8,
     maxval = float(np.iinfo(dtype).max)
 
     def quantise(block: np.ndarray) -> np.ndarray:
+        if block.dtype == dtype:                     # quantised already (``RowBlocks`` of ``dtype`` rows)
+            return block
         values = np.nan_to_num(block.astype(np.float32), nan=0.0, copy=False)   # a float32 copy, then in place
         values *= np.float32(maxval)
         values += np.float32(0.5)
