@@ -86,6 +86,7 @@ class VIEW3D_PT_paint_relief_paint(_PaintReliefPanel, Panel):
         if settings.brush == "CUSTOM":
             col.prop(settings, "brush_path")
         col.prop(settings, "height_mode")
+        col.prop(settings, "timelapse_frames")
         layout.operator("paint_relief.paint", icon="BRUSH_DATA")
 
 

@@ -1,6 +1,7 @@
 """``core paint --timelapse N``: the painting being painted, as a painted shot's folder committed with the painting."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -176,3 +177,24 @@ def test_a_still_has_no_motion():
     picture = np.zeros((4, 5, 3), np.float32)
     forward, backward = two_way_motion(picture, picture, STILL_MOTION)
     assert forward.shape == (4, 5, 2) and not forward.any() and not backward.any()
+
+
+@pytest.fixture(scope="module")
+def blender_results(tmp_path_factory, half_textured):
+    from blender_run import need_bpy, run_checks
+
+    need_bpy()
+    work = tmp_path_factory.mktemp("timelapse_blender")
+    writing.write_png(work / "photo.png", half_textured(40, 56))
+    return run_checks(Path(__file__).parent / "blender" / "timelapse_checks.py", work, work)
+
+
+@pytest.mark.blender
+def test_the_panel_paints_a_timelapse_that_build_canvas_animates(blender_results):
+    from blender_run import step
+
+    painted = step(blender_results, "paint")
+    assert painted["result"] == ["FINISHED"] and "color_0003.exr" in painted["files"]
+    built = step(blender_results, "build")
+    assert built["result"] == ["FINISHED"] and built["sequence"] == [1, 3] and built["frame_range"] == [1, 3]
+    assert built["heights"]["3"] > built["heights"]["1"]

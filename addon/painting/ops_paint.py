@@ -148,10 +148,12 @@ class PAINT_RELIEF_OT_paint(jobs.SceneJob, Operator):
         if prepared is None:
             return None
         image_path, out_dir, params, mask = prepared
+        frames = int(context.scene.paint_relief.timelapse_frames)
         jobs.begin(context.scene)
 
         def work(progress, cancel):
-            return core.paint_file(image_path, out_dir, params, progress=progress, cancel=cancel, mask_path=mask)
+            return core.paint_file(image_path, out_dir, params, progress=progress, cancel=cancel, mask_path=mask,
+                                   timelapse=frames)
 
         return work, lambda error: "Painting {} failed: {}".format(image_path, error)
 

@@ -224,6 +224,12 @@ class PaintReliefSettings(PropertyGroup):
         description="Seed of the random stroke variations: the same photograph, settings and seed give the same painting",
         default=0, min=0,
     )
+    timelapse_frames: IntProperty(
+        name="Time-lapse frames",
+        description="Also write the painting being painted, stroke after stroke, as this many frames into the "
+                    "painting's timelapse folder (Build Canvas on it gives an animated relief canvas); 0: none",
+        default=0, min=0, max=1000,  # core.files.timelapse.MAX_FRAMES
+    )
     brush: EnumProperty(
         name="Brush",
         description="Bristle pattern of every stroke",
