@@ -17,6 +17,7 @@ written, copied). Only the standard library, NumPy and the writers are used.
 
 from __future__ import annotations
 
+import functools
 import shutil
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -147,17 +148,13 @@ def write_timelapse(folder, frames: Iterable, count: int, orientation_map: np.nd
     return summary
 
 
+@functools.cache
 def half_tables() -> tuple:
     """(linear, png): for every float16 bit pattern v of an sRGB value, ``srgb_to_linear(v)`` as float32 and the
     8-bit PNG value ``floor(v * 255 + 0.5)`` clipped to [0, 255] (NaN 0), as ``write_png`` quantises: a frame
     held as float16 is converted by looking its values up, with the same numbers as converting it."""
-    if not _TABLES:
-        values = np.arange(1 << 16, dtype=np.uint16).view(np.float16).astype(np.float32)
-        finite = np.nan_to_num(values, nan=0.0, posinf=0.0, neginf=0.0)
-        with np.errstate(over="ignore", invalid="ignore"):
-            png = np.clip(np.floor(np.nan_to_num(values, nan=0.0) * np.float32(255.0) + np.float32(0.5)), 0.0, 255.0)
-        _TABLES.extend([srgb_to_linear(finite), png.astype(np.uint8)])
-    return tuple(_TABLES)
-
-
-_TABLES: list = []
+    values = np.arange(1 << 16, dtype=np.uint16).view(np.float16).astype(np.float32)
+    finite = np.nan_to_num(values, nan=0.0, posinf=0.0, neginf=0.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        png = np.clip(np.floor(np.nan_to_num(values, nan=0.0) * np.float32(255.0) + np.float32(0.5)), 0.0, 255.0)
+    return srgb_to_linear(finite), png.astype(np.uint8)
