@@ -88,7 +88,7 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     def written(staging: Path, painting) -> dict:
         if timelapse:
             painting.statistics["timelapse"] = painting_timelapse(staging, painting, caught["snapshots"],
-                                                                  str(input_path))
+                                                                  str(input_path), Stage(progress, cancel))
         return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)
 
     caught: dict = {}
@@ -96,16 +96,17 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
                               painted, written, (TIMELAPSE_DIR,) if timelapse else ())
 
 
-def painting_timelapse(staging: Path, painting, snapshots, source: str) -> dict:
+def painting_timelapse(staging: Path, painting, snapshots, source: str, stage: Optional[Stage] = None) -> dict:
     """Write the time-lapse of ``painting`` caught by ``snapshots`` (``strokes.snapshots.Snapshots``) into the
-    staging folder's ``files.timelapse.TIMELAPSE_DIR``; return its summary (``files.timelapse.write_timelapse``)."""
+    staging folder's ``files.timelapse.TIMELAPSE_DIR``; return its summary (``files.timelapse.write_timelapse``,
+    which reports to and polls ``stage``)."""
     from .files.export import map_attributes
     from .files.timelapse import TIMELAPSE_DIR, write_timelapse
 
     frames = snapshots.frames(painting.params.canvas_colour, painting.colour, painting.height, painting.opacity)
     return write_timelapse(staging / TIMELAPSE_DIR, frames, snapshots.frame_count, painting.orientation,
                            map_attributes(painting.params), source, painting.params.to_dict(),
-                           {"step": snapshots.step, "snapshot_bytes": snapshots.held_bytes()})
+                           {"step": snapshots.step, "snapshot_bytes": snapshots.held_bytes()}, stage)
 
 
 def stroke_list_params(document: dict, path) -> Params:

@@ -198,3 +198,29 @@ def test_the_panel_paints_a_timelapse_that_build_canvas_animates(blender_results
     built = step(blender_results, "build")
     assert built["result"] == ["FINISHED"] and built["sequence"] == [1, 3] and built["frame_range"] == [1, 3]
     assert built["heights"]["3"] > built["heights"]["1"]
+
+
+def test_a_run_cancelled_while_writing_frames_leaves_the_folder_as_it_was(photo, painted, tmp_path):
+    import shutil
+
+    out = tmp_path / "out"
+    shutil.copytree(painted, out)
+    before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
+
+    def cancel():
+        return any(out.glob(f".staging-*/{timelapse.TIMELAPSE_DIR}/color_0002.exr"))
+
+    with pytest.raises(Cancelled) as stopped:
+        paint_file(photo, out, Params(seed=4), cancel=cancel, timelapse=FRAMES)
+    one_sentence(str(stopped.value))
+    assert {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+
+
+def test_half_tables_convert_as_the_writers_do():
+    from core.colour import srgb_to_linear
+
+    linear, png = timelapse.half_tables()
+    values = np.random.default_rng(1).random((30, 40, 3)).astype(np.float16)
+    assert np.array_equal(linear[values.view(np.uint16)], srgb_to_linear(values.astype(np.float32)))
+    quantised = np.floor(values.astype(np.float32) * np.float32(255.0) + np.float32(0.5)).astype(np.uint8)
+    assert np.array_equal(png[values.view(np.uint16)], quantised)

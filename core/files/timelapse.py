@@ -29,6 +29,7 @@ import numpy as np
 from .. import tuning
 from ..colour import srgb_to_linear
 from ..errors import OutputError, ParameterError, plain_cause
+from ..progress import Stage
 from ..version import __version__
 from . import quiet, writing
 from .shot_files import REPORT_FILE, frame_file_names
@@ -95,7 +96,8 @@ def frame_task(folder: Path, number: int, colour: np.ndarray, height: np.ndarray
 
 
 def write_timelapse(folder, frames: Iterable, count: int, orientation_map: np.ndarray, attributes: dict,
-                    source: str, params_dict: dict, statistics: Optional[dict] = None) -> dict:
+                    source: str, params_dict: dict, statistics: Optional[dict] = None,
+                    stage: Optional[Stage] = None) -> dict:
     """Write a time-lapse of ``count`` frames into the new folder ``folder``; return its summary for the
     painting's report.
 
@@ -106,7 +108,8 @@ def write_timelapse(folder, frames: Iterable, count: int, orientation_map: np.nd
     ``STILL_MOTION``, with under "timelapse" the format, the painting's strokes and the snapshot step, and per
     frame the strokes shown, the mean opacity ("coverage") and each file's bytes. ``statistics``: more to record
     under "timelapse" (the snapshots' bytes). OutputError (one sentence naming the file) when a file cannot be
-    written.
+    written. ``stage`` (optional) hears "Time-lapse: frame k of N" and is polled for cancel before each frame and
+    once all are written (Cancelled: the caller removes the folder).
     """
     clock = time.perf_counter()
     folder = Path(folder)
@@ -122,6 +125,9 @@ def write_timelapse(folder, frames: Iterable, count: int, orientation_map: np.nd
     with quiet.captured(), ThreadPoolExecutor(tuning.WRITERS) as pool:
         pending = []
         for number, frame in enumerate(frames, start=1):
+            if stage is not None:
+                stage.check()
+                stage.report(1.0, f"Time-lapse: frame {number} of {count}")
             height, width = frame.height.shape
             per_frame.append({"frame": number, "strokes": int(frame.strokes),
                               "coverage": round(float(np.mean(frame.opacity, dtype=np.float64)), 6)})
@@ -131,6 +137,8 @@ def write_timelapse(folder, frames: Iterable, count: int, orientation_map: np.nd
                 pending.pop(0).result()
         for future in pending:
             future.result()
+    if stage is not None:
+        stage.check()
     if len(per_frame) != count:
         raise ValueError(f"The time-lapse was to have {count} frames, but {len(per_frame)} were made.")
     for entry in per_frame:
