@@ -224,3 +224,14 @@ def test_half_tables_convert_as_the_writers_do():
     assert np.array_equal(linear[values.view(np.uint16)], srgb_to_linear(values.astype(np.float32)))
     quantised = np.floor(values.astype(np.float32) * np.float32(255.0) + np.float32(0.5)).astype(np.uint8)
     assert np.array_equal(png[values.view(np.uint16)], quantised)
+
+
+def test_an_old_timelapse_left_aside_by_a_killed_commit_is_removed(photo, tmp_path):
+    from core.files.staging import RETIRED_PREFIX
+
+    out = tmp_path / "out"
+    left = out / f"{RETIRED_PREFIX}.staging-1-00-{timelapse.TIMELAPSE_DIR}"
+    left.mkdir(parents=True)
+    (left / "color_0001.exr").write_bytes(b"old")
+    paint_file(photo, out, Params(seed=3), timelapse=2)
+    assert not left.exists() and (out / timelapse.TIMELAPSE_DIR / "color_0002.exr").is_file()
