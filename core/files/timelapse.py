@@ -10,14 +10,15 @@ canvas of it and the relit film (``sample_scenes/animate.py``) renders it.
 The frames come as arrays (``strokes.snapshots.Frame``); the last is the
 painting's own, so its maps hold the painting's color.exr, height.exr and
 opacity.exr values exactly. The EXRs are half floats, ``FRAME_COMPRESSION``
-compressed (lossless, several times faster to write than zip), the PNGs zlib
-level ``PNG_LEVEL``; orientation is the painting's for every frame (one file
-written, copied). Only the standard library, NumPy and the writers are used.
+compressed (lossless, faster to write than zip), the PNGs zlib
+level ``PNG_LEVEL`` without row filters; orientation is the painting's for every frame (one file
+written, hard-linked under every frame's name, ``shared``). Only the standard library, NumPy and the writers are used.
 """
 
 from __future__ import annotations
 
 import functools
+import os
 import shutil
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -44,7 +45,8 @@ MAX_FRAMES = 1000
 """The most frames a time-lapse takes (each frame is about 10 bytes per pixel on disk)."""
 
 FRAME_COMPRESSION = "rle"
-"""The frames' EXR compression: lossless, and about 1.6 times as fast to write as zip for 1.4 times the bytes."""
+"""The frames' EXR compression: lossless; a 1-megapixel frame's files take about 130 ms of processor time with it,
+170 ms with zip (for 1.45 times zip's bytes) and 100 ms uncompressed (2.1 times)."""
 
 PNG_LEVEL = 1
 """The frames' PNG zlib level."""
@@ -61,10 +63,20 @@ def check_frames(frames, what: str = "The time-lapse") -> int:
     return int(frames)
 
 
+def shared(source: Path, target: Path) -> None:
+    """``target`` made the file ``source`` (the orientation map every frame has): a hard link, which takes no
+    bytes (the painter replaces files by renaming new ones over them, never writes into them), or a copy where
+    the file system has no hard links. OSError when neither can be made."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copyfile(source, target)
+
+
 def frame_task(folder: Path, number: int, colour: np.ndarray, height: np.ndarray, opacity: np.ndarray,
                orientation: Path, attributes: dict):
     """The writer of frame ``number``'s files into ``folder``: colour (H, W, 3) sRGB [0, 1], height and opacity
-    (H, W), float16 or float32; ``orientation`` the orientation map written once, copied. Returns the files'
+    (H, W), float16 or float32; ``orientation`` the orientation map written once (``shared``). Returns the files'
     names in ``frame_file_names`` order."""
     names = frame_file_names(number, False)
     mine = dict(attributes, **{"paint_relief:frame": str(number)})
@@ -79,7 +91,7 @@ def frame_task(folder: Path, number: int, colour: np.ndarray, height: np.ndarray
             srgb = np.asarray(colour, np.float32)
             png = srgb
             linear = writing.RowBlocks(srgb.shape, lambda y0, y1: srgb_to_linear(srgb[y0:y1]))
-        writing.write_png(folder / names[0], png, level=PNG_LEVEL)
+        writing.write_png(folder / names[0], png, level=PNG_LEVEL, filters=writing.PNG_UNFILTERED)
         writing.write_exr(folder / names[1], linear, half=True, attributes=mine, compression=FRAME_COMPRESSION)
         for name, values in ((names[2], height), (names[3], opacity)):
             writing.write_exr(folder / name, np.asarray(values, np.float32), channels=("Y",), half=True,
@@ -87,7 +99,7 @@ def frame_task(folder: Path, number: int, colour: np.ndarray, height: np.ndarray
         target = folder / names[4]
         if orientation != target:
             try:
-                shutil.copyfile(orientation, target)
+                shared(orientation, target)
             except OSError as exc:
                 cause = plain_cause(exc)
                 raise OutputError(f"Cannot write {target}: {cause}.", path=target, cause=cause) from exc

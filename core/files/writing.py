@@ -236,10 +236,16 @@ PNG_COMPRESSION = 3
 """zlib level of the PNGs: level 3 is several times faster than the highest and the files about 10 % larger."""
 
 
+PNG_UNFILTERED = 8
+"""libpng's PNG_FILTER_NONE: rows compressed as they are, about twice as fast to write as libpng's adaptive
+filtering for a fifth more bytes."""
+
+
 def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8,
-              level: int = PNG_COMPRESSION) -> None:
+              level: int = PNG_COMPRESSION, filters: Optional[int] = None) -> None:
     """Write float32 (H, W) or (H, W, 3|4) sRGB-encoded ``data`` (or RowBlocks) in [0, 1] as an 8- or 16-bit PNG,
-    zlib ``level`` (0 to 9) compressed.
+    zlib ``level`` (0 to 9) compressed, with libpng's row ``filters`` (a PNG_FILTER_* mask such as
+    ``PNG_UNFILTERED``; None: libpng's choice).
 
     Values are quantised as ``floor(v * maxval + 0.5)`` clipped to
     [0, maxval] (maxval 255 or 65535; NaN becomes 0); RowBlocks whose rows are
@@ -271,6 +277,8 @@ def write_png(path: PathLike, data: Union[np.ndarray, RowBlocks], bits: int = 8,
         spec.attribute("oiio:UnassociatedAlpha", 1)
     spec.attribute("DateTime", "")
     spec.attribute("png:compressionLevel", int(level))
+    if filters is not None:
+        spec.attribute("png:filter", int(filters))
     _write_with_oiio(pathlib.Path(path), spec, image, quantise)
 
 
