@@ -24,8 +24,10 @@ from core.files.timelapse import TIMELAPSE_DIR
 
 
 def folder_bytes(folder: Path) -> int:
-    """The bytes of every file under ``folder``."""
-    return sum(path.stat().st_size for path in folder.rglob("*") if path.is_file())
+    """The bytes of the files under ``folder``, a file under several names (hard links) counted once."""
+    sizes = {(stat.st_dev, stat.st_ino): stat.st_size for stat in (path.stat() for path in folder.rglob("*")
+                                                                   if path.is_file())}
+    return sum(sizes.values())
 
 
 def main() -> None:
