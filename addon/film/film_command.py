@@ -206,13 +206,19 @@ def main(argv, prog=None):
     errors = result["warping_error"]
     log.seconds(started)
     log.say("Cycles took {:.2f} s per frame at {} x {} px.".format(render["seconds_per_frame"], *size))
-    log.say("Warping error: footage {:.5f}, relit {:.5f} ({:.2f}x), paper {:.5f} ({:.2f}x), unlit painting {:.5f} "
-            "({:.2f}x).".format(errors["footage"]["mean"], errors["relit"]["mean"], errors["relit"]["ratio"],
-                                errors["paper"]["mean"], errors["paper"]["ratio"], errors["painting"]["mean"],
-                                errors["painting"]["ratio"]))
+    log.say("Warping error: footage {:.5f}, relit {:.5f} ({}), paper {:.5f} ({}), unlit painting {:.5f} "
+            "({}).".format(errors["footage"]["mean"], errors["relit"]["mean"], _times(errors["relit"]["ratio"]),
+                           errors["paper"]["mean"], _times(errors["paper"]["ratio"]), errors["painting"]["mean"],
+                           _times(errors["painting"]["ratio"])))
     log.say("Films: {0}/relit, {0}/paper, {0}/animation.gif{1}; figures: {0}/animation.md, {0}/animation.json; "
             "the scene in {0}/scene.blend".format(out_dir, ", {}/animation.mp4".format(out_dir) if movie else ""))
     return 0
+
+
+def _times(ratio):
+    """A ratio to the footage's warping error as "1.23x", or "no ratio" when the footage's is 0 (a still's
+    time-lapse) and the ratio has no value."""
+    return "{:.2f}x".format(ratio) if ratio == ratio and abs(ratio) != float("inf") else "no ratio to a still"
 
 
 def _png_size(path):
