@@ -82,8 +82,8 @@ def test_same_bytes_twice_and_the_painting_unchanged(photo, painted, tmp_path):
 
 def test_catching_the_canvas_changes_no_stroke(half_textured):
     image = half_textured(40, 56)
-    for method in ("huang11", "hertzmann98"):
-        params = Params(seed=2, method=method)
+    for method in ({"method": "huang11"}, {"method": "hertzmann98"}, {"renderer": "lines"}):
+        params = Params(seed=2, **method)
         caught = Snapshots(image.shape[:2], 4)
         alone, with_snapshots = paint(image, params), paint(image, params, snapshots=caught)
         assert caught.count == len(alone.strokes)
