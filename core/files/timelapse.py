@@ -10,9 +10,9 @@ canvas of it and the relit film (``sample_scenes/animate.py``) renders it.
 The frames come as arrays (``strokes.snapshots.Frame``); the last is the
 painting's own, so its maps hold the painting's color.exr, height.exr and
 opacity.exr values exactly. The EXRs are half floats, ``FRAME_COMPRESSION``
-compressed (lossless, faster to write than zip), the PNGs zlib
-level ``PNG_LEVEL`` without row filters; orientation is the painting's for every frame (one file
-written, hard-linked under every frame's name, ``shared``). Only the standard library, NumPy and the writers are used.
+compressed (lossless, faster to write than zip), the PNGs zlib level
+``PNG_LEVEL`` without row filters; orientation is the painting's for every
+frame (one file written, hard-linked under every frame's name, ``shared``).
 """
 
 from __future__ import annotations

@@ -9,8 +9,9 @@ strokes cover, not a whole canvas each. The number of strokes is not known
 before the last is laid: the step starts at 1 stroke and doubles whenever
 2 x ``frames`` deltas are held, two neighbouring deltas merged into one, so
 between ``frames`` and 2 x ``frames`` deltas are held at the end (fewer only
-when the painting has fewer strokes than that) at a cost of a few thousandths
-of a second a delta.
+when the painting has fewer strokes than that), at about a millisecond of
+processor time a delta at 1 megapixel, merging included (about 740 deltas
+for the 6,692 strokes of 100 frames).
 
 ``frames()`` then gives the time-lapse: frame k of N (k = 1 .. N) shows the
 canvas after the first round(k S / N) of the painting's S strokes rounded down
