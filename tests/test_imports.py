@@ -33,6 +33,7 @@ CORE_LAYERS = [
     ("surface", {"core.surface"}),
     ("figures", {"core.figures"}),
     ("api", {"core.api"}),
+    ("objects", {"core.objects"}),
     ("evaluation", {"core.evaluation"}),
     ("entry", {"core", "core.cli", "core.__main__", "core.blender"}),
 ]
