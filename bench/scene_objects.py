@@ -7,7 +7,9 @@ cubes of six islands) with a bundled photograph as its texture, painted at
 in this process, then all four by ``core.paint_objects`` on the machine's
 cores (``--processes``, default one per core), each time into new folders.
 Printed: the median and every wall-clock second of both, their ratio (side
-by side / one after another), the strokes of each object, the peak resident
+by side / one after another), the median processor seconds of both (user and
+system, this process and its workers: what other work on the machine blurs
+least), the strokes of each object, the peak resident
 memory (this process one after another; this process and its workers
 together side by side, sampled every 50 ms), whether both ways wrote the
 same bytes (every file report.json lists), and the load average before and
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import sys
 import tempfile
@@ -92,6 +95,12 @@ class PeakMemory:
         self._thread.join()
 
 
+def processor_seconds() -> float:
+    """User and system seconds of this process and of its children waited for, so far."""
+    return sum(getattr(resource.getrusage(who), field) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+               for field in ("ru_utime", "ru_stime"))
+
+
 def one_after_another(jobs: list) -> list:
     """Each job painted by ``core.paint_object``, in order; the reports."""
     return [core.paint_object(**job) for job in jobs]
@@ -116,6 +125,7 @@ def main() -> None:
     print(f"load average before: {' '.join(f'{v:.2f}' for v in os.getloadavg())}; cores: "
           f"{len(os.sched_getaffinity(0))}")
     seconds = {"one after another": [], "side by side": []}
+    processor = {name: [] for name in seconds}
     peaks = {name: 0.0 for name in seconds}
     same = True
     with tempfile.TemporaryDirectory(prefix="scene-objects-") as work:
@@ -125,10 +135,11 @@ def main() -> None:
             for name in seconds:
                 jobs = scene_jobs(args.size, Path(work) / f"{run}_{name.replace(' ', '_')}")
                 with PeakMemory() as memory:
-                    t0 = time.perf_counter()
+                    t0, c0 = time.perf_counter(), processor_seconds()
                     reports = one_after_another(jobs) if name == "one after another" else side_by_side(
                         jobs, args.processes)
                     seconds[name].append(time.perf_counter() - t0)
+                    processor[name].append(processor_seconds() - c0)
                 peaks[name] = max(peaks[name], memory.peak)
                 done[name] = reports
                 print(f"run {run + 1} {name}: {seconds[name][-1]:.2f} s", flush=True)
@@ -138,7 +149,7 @@ def main() -> None:
     print(f"\n{args.size} texels, 4 objects, strokes {[report['strokes'] for report in serial]}")
     for name in seconds:
         print(f"{name:>18}: median {medians[name]:.2f} s  ({', '.join(f'{v:.2f}' for v in seconds[name])})  "
-              f"peak resident {peaks[name]:.0f} MiB")
+              f"processor {statistics.median(processor[name]):.1f} s  peak resident {peaks[name]:.0f} MiB")
     print(f"ratio side by side / one after another: {medians['side by side'] / medians['one after another']:.2f}")
     print(f"same bytes both ways: {same}")
     print(f"load average after: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")

@@ -2,7 +2,11 @@
 job while the others are painted, a second call keeping every painting, a change repainting its job only, cancel
 leaving every unfinished folder as it was, and the path in this process."""
 
+import json
+import os
 import shutil
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -195,3 +199,43 @@ def test_a_worker_that_ends_without_a_result_is_one_sentence_and_no_python_paint
     outcomes = core.paint_objects(jobs, processes=2, notice=heard.append)
     assert [painted_files(o.report["output_dir"]) for o in outcomes] == alone[:2]
     assert len(heard) == 1 and heard[0].startswith("The objects are painted one after another: ")
+
+
+HELD_SCRIPT = '''
+import json, sys, types
+import numpy as np
+sys.modules["only_in_blender"] = types.ModuleType("only_in_blender")      # what the extension's package needs
+from bl_ext.user_default.paint_relief import core
+from bl_ext.user_default.paint_relief.core.params import Params
+from bl_ext.user_default.paint_relief.core.surface.mesh import SurfaceMesh
+jobs = json.loads(sys.argv[1])
+for job in jobs:
+    with np.load(job.pop("arrays")) as arrays:
+        job["mesh"] = SurfaceMesh(arrays["uv"], arrays["position"])
+    job["params"] = Params(seed=job.pop("seed"))
+outcomes = core.paint_objects(jobs, processes=2)
+print(json.dumps([[o.report and o.report["batch"], o.error and str(o.error)] for o in outcomes]))
+'''
+
+
+def test_inside_an_extension_s_package_the_workers_import_core_from_its_folder(tmp_path, alone):
+    """As inside Blender: core is a subpackage of bl_ext.user_default.paint_relief, whose __init__ imports what
+    only the program holds; the workers import core on its own from the extension's folder."""
+    extension = tmp_path / "bl_ext" / "user_default" / "paint_relief"
+    shutil.copytree(Path(core.__file__).parent, extension / "core", ignore=shutil.ignore_patterns("__pycache__"))
+    for package in (tmp_path / "bl_ext", tmp_path / "bl_ext" / "user_default"):
+        (package / "__init__.py").write_text("")
+    (extension / "__init__.py").write_text("import only_in_blender\n")
+    jobs = []
+    for k, job in enumerate(scene_jobs(tmp_path / "out")[:2]):
+        np.savez(tmp_path / f"mesh{k}.npz", uv=job["mesh"].uv, position=job["mesh"].position)
+        jobs.append({name: str(value) if isinstance(value, Path) else value for name, value in job.items()
+                     if name not in ("mesh", "params")} | {"arrays": str(tmp_path / f"mesh{k}.npz"),
+                                                             "seed": job["params"].seed})
+    (tmp_path / "held.py").write_text(HELD_SCRIPT)
+    environment = {name: value for name, value in os.environ.items() if name != "PYTHONPATH"}
+    done = subprocess.run([sys.executable, str(tmp_path / "held.py"), json.dumps(jobs)], cwd=tmp_path,
+                          env=environment, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.splitlines()[-1]) == [["painted", None], ["painted", None]]
+    assert [painted_files(tmp_path / "out" / name) for name in ("sphere", "cube")] == alone[:2]
