@@ -59,7 +59,10 @@ def is_grease_pencil_3():
 
 
 def _data_collection():
-    return getattr(bpy.data, "grease_pencils_v3", None) or bpy.data.grease_pencils
+    """Where new Grease Pencil data goes: ``grease_pencils_v3`` in Blender 4.3 to 4.5 (``grease_pencils`` is the
+    legacy kind there), ``grease_pencils`` in 4.2 (legacy) and 5.0 and later (Grease Pencil 3)."""
+    found = getattr(bpy.data, "grease_pencils_v3", None)
+    return found if found is not None else bpy.data.grease_pencils
 
 
 def stroke_objects(scene):

@@ -69,8 +69,6 @@ class PAINT_RELIEF_OT_lay_grease_pencil(Operator):
             self.report({"ERROR"}, missing)
             return {"CANCELLED"}
         obj = grease_pencil.active_strokes(context)
-        if context.mode != "OBJECT" and bpy.ops.object.mode_set.poll():
-            bpy.ops.object.mode_set(mode="OBJECT")      # strokes edited in Edit Mode are written back first
         try:
             report = round_trip.lay_strokes(context, obj)
         except _user_errors() as error:
