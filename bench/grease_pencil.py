@@ -8,7 +8,8 @@ back as drawn strokes (what Lay Grease Pencil Strokes reads before laying), and 
 strokes, with the Blender version. The target: a
 1-megapixel painting's strokes (about 10,000) in at most 10 s.
 Run with a Python that has the bpy module (Blender 4.3 and later make Grease Pencil 3, 4.2 the legacy one):
-Usage: python bench/grease_pencil.py [--runs N] [--megapixels 1,2] [--sample coffee|astronaut|chelsea|hubble]
+Usage: python bench/grease_pencil.py [--runs N] [--megapixels 1,2] [--sizes 32,16,8,4,2]
+       [--sample coffee|astronaut|chelsea|hubble]
 """
 
 from __future__ import annotations
@@ -26,12 +27,14 @@ from core.api import paint_file
 from core.files import writing
 
 
-def painted_folder(root: Path, megapixels: float, sample: Path) -> Path:
-    """A folder painted by ``paint_file`` (with laying data) from ``sample`` resampled to about ``megapixels``."""
+def painted_folder(root: Path, megapixels: float, sample: Path, sizes=None) -> Path:
+    """A folder painted by ``paint_file`` (with laying data) from ``sample`` resampled to about ``megapixels``, with
+    the stroke ``sizes`` (px at 1 megapixel; None: the defaults)."""
     source = root / f"photo_{megapixels:g}.png"
     writing.write_png(source, photo(megapixels, sample))
     folder = root / f"painted_{megapixels:g}"
-    paint_file(source, folder, Params(seed=0), strokes_to_lay=True)
+    params = Params(seed=0) if sizes is None else Params(seed=0, stroke_sizes=sizes)
+    paint_file(source, folder, params, strokes_to_lay=True)
     return folder
 
 
@@ -39,6 +42,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--megapixels", default="1,2", help="sizes, comma separated (default: %(default)s)")
+    parser.add_argument("--sizes", default=None,
+                        help="stroke sizes of the painting, comma separated (default: the painter's; smaller sizes "
+                             "give more strokes)")
     parser.add_argument("--sample", default=SAMPLE.stem,
                         help="a photograph of sample_scenes/ by its name (default: %(default)s)")
     args = parser.parse_args()
@@ -59,7 +65,8 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as temp:
         root = Path(temp)
         for mp in (float(v) for v in args.megapixels.split(",")):
-            folder = painted_folder(root, mp, sample)
+            sizes = tuple(int(v) for v in args.sizes.split(",")) if args.sizes else None
+            folder = painted_folder(root, mp, sample, sizes)
             make, read = [], []
             for _ in range(args.runs):
                 bpy.ops.wm.read_homefile(use_empty=True)
