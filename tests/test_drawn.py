@@ -127,3 +127,13 @@ def test_a_painting_without_laying_data_is_one_sentence(tmp_path, half_textured)
     with pytest.raises(core.InputError) as error:
         core.drawn_strokes(tmp_path)
     one_sentence(str(error.value), tmp_path / "strokes.json")
+
+
+def test_every_stroke_deleted_lays_a_bare_canvas(painted, tmp_path):
+    _, folder = painted
+    drawn = core.drawn_strokes(folder)
+    empty = type(drawn).from_plane(np.zeros(0, np.int64), np.zeros((0, 3), np.float32), np.zeros(0), np.zeros((0, 3)),
+                                   np.zeros(0), np.zeros(0, np.int64), drawn.size, WIDTH_M, HEIGHT_M)
+    report = core.lay_drawn(folder, empty, tmp_path / "bare")
+    assert report["strokes"] == 0
+    assert reading.read_exr(tmp_path / "bare" / "height.exr")[0].max() == 0

@@ -93,9 +93,10 @@ class DrawnStrokes:
         w, h = size
         counts = np.asarray(counts, np.int64).reshape(-1)
         n = len(counts)
-        points_m = np.asarray(points_m, np.float64).reshape(int(counts.sum()) if n else 0, -1)
+        points_m = np.asarray(points_m, np.float64)
         arrays = [np.asarray(a, np.float64) for a in (radius_m, linear_colour, opacity)]
-        if np.any(counts < 1) or points_m.shape[1] < 2 or arrays[0].shape != (n,) or arrays[1].shape != (n, 3) \
+        if np.any(counts < 1) or points_m.ndim != 2 or len(points_m) != counts.sum() or points_m.shape[1] < 2 \
+                or arrays[0].shape != (n,) or arrays[1].shape != (n, 3) \
                 or arrays[2].shape != (n,) or np.asarray(index).shape != (n,):
             raise ValueError("the drawn strokes' arrays do not agree in shape")
         if not all(np.all(np.isfinite(a)) for a in (points_m[:, :2], *arrays)):
