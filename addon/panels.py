@@ -216,6 +216,9 @@ class VIEW3D_PT_paint_relief_canvas(_PaintReliefPanel, Panel):
         row = layout.row(align=True)
         row.operator("paint_relief.build_canvas", icon="MESH_PLANE").frame_range = settings.canvas_frame_range
         row.operator("paint_relief.reload_maps", icon="FILE_REFRESH")
+        row = layout.row(align=True)
+        row.operator("paint_relief.strokes_to_grease_pencil", icon="OUTLINER_OB_GREASEPENCIL")
+        row.operator("paint_relief.lay_grease_pencil", icon="BRUSH_DATA")
         col = layout.column(heading="Add Camera Sets")
         _props(col, settings, "camera_match_resolution", "camera_standard_view")
         layout.operator("paint_relief.add_camera", icon="OUTLINER_OB_CAMERA")

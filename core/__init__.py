@@ -12,7 +12,8 @@ from .version import __version__
 __all__ = [
     "__version__", "Params", "SequenceSettings", "Analysis", "analyze", "Painting", "paint", "paint_file",
     "paint_sequence_files", "paint_object", "paint_objects", "ObjectOutcome", "screen_stroke_mm", "SurfaceMesh", "check_maps",
-    "ensure_normal_map", "PaintReliefError", "InputError", "OutputError", "ParameterError", "Cancelled",
+    "ensure_normal_map", "drawn_strokes", "lay_drawn", "DrawnStrokes", "PaintReliefError", "InputError", "OutputError",
+    "ParameterError", "Cancelled",
 ]
 
 
@@ -21,7 +22,8 @@ _HOMES = {"Analysis": "results", "Painting": "results", "analyze": "analysis.run
           "check_maps": "files.maps", "ensure_normal_map": "files.export", "paint_file": "api",
           "paint_sequence_files": "api", "paint_object": "api", "paint_objects": "objects.side_by_side",
           "ObjectOutcome": "objects.side_by_side", "screen_stroke_mm": "params",
-          "SurfaceMesh": "surface.mesh"}
+          "SurfaceMesh": "surface.mesh",
+          "drawn_strokes": "api", "lay_drawn": "api", "DrawnStrokes": "strokes.drawn"}
 
 __getattr__, __dir__ = lazy_names(__name__, _HOMES)
 

@@ -137,13 +137,21 @@ def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = No
     do not fit its brush) and a reference of another size than the list's are refused in one sentence naming the
     file, before anything is written; the outputs are committed all together or not at all, as ``paint_file``'s.
     """
+    from .files.stroke_file import read_stroke_file
+
+    path = Path(strokes_path)
+    return lay_document(read_stroke_file(path), path, reference_path, output_dir, progress, normal_map)
+
+
+def lay_document(document: dict, path: Path, reference_path, output_dir, progress: ProgressFn = None,
+                 normal_map: bool = False) -> dict:
+    """``lay_file`` of a stroke list ``document`` already read (``read_stroke_file``) from ``path``, the file its
+    sentences name."""
     from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
-    from .files.stroke_file import FORMAT, read_stroke_file
+    from .files.stroke_file import FORMAT
     from .methods.laying import lay_painting
     from .strokes.stroke_file_list import strokes_from_document
 
-    path = Path(strokes_path)
-    document = read_stroke_file(path)
     if document.get("format", 1) != FORMAT:
         raise InputError(f"The stroke list {path} is of format {document.get('format', 1)}, which holds no laying "
                          f"data: paint the photograph again to get a list of format {FORMAT}.")
@@ -174,6 +182,76 @@ def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = No
 
     return committed_painting(output_dir, reference_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()),
                               painted, written)
+
+
+def drawn_strokes(painted_dir):
+    """The strokes of PAINTED_DIR/strokes.json (format 1 or 2) as polylines (``core.strokes.drawn.DrawnStrokes``,
+    one per stroke in painting order, index i for stroke i): what a Grease Pencil object of the painting holds.
+    InputError in one sentence naming the file when the folder has no stroke list this version reads or
+    nothing says the painting's size."""
+    from .files.stroke_file import STROKES_FILE, painting_size, read_stroke_file
+    from .strokes.drawn import drawn_from_document
+
+    folder = Path(painted_dir)
+    path = folder / STROKES_FILE
+    if not path.is_file():
+        raise InputError(f"{path} does not exist: give a folder painted by Paint Relief.")
+    document = read_stroke_file(path)
+    size = painting_size(document, folder)
+    if size is None:
+        raise InputError(f"The stroke list {path} does not say the painting's size, nor does a report.json "
+                         f"beside it.")
+    return drawn_from_document(document, size)
+
+
+def painted_reference(painted_dir) -> Path:
+    """The photograph PAINTED_DIR was painted from, as its report.json names it; InputError in one sentence when
+    it names none or the file is gone."""
+    folder = Path(painted_dir)
+    try:
+        source = json.loads((folder / "report.json").read_text(encoding="utf-8")).get("input")
+    except (OSError, ValueError, AttributeError):
+        source = None
+    if not isinstance(source, str) or not source:
+        raise InputError(f"The painting {folder} does not name the photograph it was painted from (its report.json "
+                         f"is missing or holds no input): give the photograph as the reference.")
+    if not Path(source).is_file():
+        raise InputError(f"The photograph {source} that {folder} was painted from is gone: give it as the "
+                         f"reference.")
+    return Path(source)
+
+
+def lay_drawn(painted_dir, drawn, output_dir, reference_path=None, progress: ProgressFn = None) -> dict:
+    """Lay ``drawn`` (``DrawnStrokes``: the painting's strokes as a drawing program holds them after editing, in
+    laying order) into a new painting in ``output_dir``, as ``lay_file`` lays a list; return the report.
+
+    The strokes kept from PAINTED_DIR's strokes.json (format 2, with laying data) keep their recorded laying
+    data with their moves and colour changes applied, strokes drawn anew get the painting's brush
+    (``core.strokes.redrawn``); the reference is ``reference_path``, else the photograph PAINTED_DIR's
+    report.json names. One sentence naming the file for whatever cannot be read or laid, before anything is
+    written; the outputs are committed all together or not at all.
+    """
+    from .files.stroke_file import FORMAT, STROKES_FILE, read_stroke_file
+    from .strokes.redrawn import redrawn_document
+
+    folder = Path(painted_dir)
+    path = folder / STROKES_FILE
+    if not path.is_file():
+        raise InputError(f"{path} does not exist: give a folder painted by Paint Relief.")
+    document = read_stroke_file(path)
+    if document.get("format", 1) != FORMAT:
+        raise InputError(f"The stroke list {path} is of format {document.get('format', 1)}, which holds no laying "
+                         f"data: paint the photograph again to get a list of format {FORMAT}.")
+    params = stroke_list_params(document, path)
+    if tuple(drawn.size) != (document.get("width"), document.get("height")):
+        raise InputError(f"The drawn strokes are on a painting of {drawn.size[0]} x {drawn.size[1]} pixels, but the "
+                         f"stroke list {path} was painted at {document.get('width')} x {document.get('height')}.")
+    reference = Path(reference_path) if reference_path is not None else painted_reference(folder)
+    try:
+        edited = redrawn_document(document, drawn, params)
+    except ValueError as exc:
+        raise InputError(f"The stroke list {path} cannot be laid again: {str(exc).rstrip('.')}.") from None
+    return lay_document(edited, path, reference, output_dir, progress)
 
 
 def committed_painting(output_dir, input_path, names: tuple, painted: Callable[[], object],

@@ -41,7 +41,8 @@ CORE_LAYERS = [
 # addon's layers, lowest first, by the same rule. The base is what every part shares (pure helpers, the painter's
 # libraries, the long operators' modal skeleton, the command lines' helpers); the scene builders come next; the settings sit above them because their update callbacks change the
 # canvas and lights; the operators of painting and of the comparison read the settings; the relit film (film)
-# renders with the comparison's settings; the sidebar names them all;
+# renders with the comparison's settings; the Grease Pencil round trip (strokes) stages the canvas again; the
+# sidebar names them all;
 # Paint Object (objects) takes the painter's settings of painting; the command line and the package's
 # register/unregister are the entry points.
 ADDON_LAYERS = [
@@ -52,6 +53,7 @@ ADDON_LAYERS = [
     ("objects", {"addon.objects"}),
     ("comparison", {"addon.comparison"}),
     ("film", {"addon.film"}),
+    ("strokes", {"addon.strokes"}),
     ("panels", {"addon.panels"}),
     ("entry", {"addon", "addon.cli_command"}),
 ]

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The ``paint_relief.paint`` operator: paint the chosen photograph into maps.
 
-The work is one call of ``core.paint_file``. Headless (``bpy.app.background``)
+The work is one call of ``core.paint_file``, which records in strokes.json
+what laying each stroke again needs (Lay Grease Pencil Strokes lays them). Headless (``bpy.app.background``)
 and from scripts, ``execute()`` runs it synchronously. Interactively, the
 same call runs in a worker thread and a modal timer shows its progress in
 the window manager's progress bar and the status bar; Esc asks the painter
@@ -153,7 +154,7 @@ class PAINT_RELIEF_OT_paint(jobs.SceneJob, Operator):
 
         def work(progress, cancel):
             return core.paint_file(image_path, out_dir, params, progress=progress, cancel=cancel, mask_path=mask,
-                                   timelapse=frames)
+                                   timelapse=frames, strokes_to_lay=True)
 
         return work, lambda error: "Painting {} failed: {}".format(image_path, error)
 
