@@ -59,11 +59,10 @@ def test_painting_again_keeps_every_texture_and_writes_nothing(found):
 
 def test_a_stopped_run_keeps_what_it_finished_and_painting_again_gives_the_bytes_of_a_run_never_stopped(found):
     stopped = _step(found, "stopped_and_painted_again")
-    assert stopped["outcome"] != "finished" and "cancelled" in stopped["outcome"]
-    assert len(stopped["done_when_stopped"]) == 1
+    done = stopped["done_when_stopped"]     # the textures committed before the stop was seen: one, or both
+    assert len(done) >= 1 and (len(done) == 2 or "cancelled" in stopped["outcome"])
     assert stopped["result"] == ["FINISHED"], stopped["error"]
-    kept = stopped["done_when_stopped"][0]
-    assert stopped["kept"] == {"Ball": kept == "Ball", "Box": kept == "Box"}
+    assert stopped["kept"] == {"Ball": "Ball" in done, "Box": "Box" in done}
     assert stopped["same_bytes"] == {"Ball": True, "Box": True}, stopped["differ"]
 
 
