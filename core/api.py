@@ -103,10 +103,9 @@ def painting_timelapse(staging: Path, painting, snapshots, source: str, stage: O
     from .files.export import map_attributes
     from .files.timelapse import TIMELAPSE_DIR, write_timelapse
 
-    frames = snapshots.frames(painting.params.canvas_colour, painting.colour, painting.height, painting.opacity)
-    return write_timelapse(staging / TIMELAPSE_DIR, frames, snapshots.frame_count, painting.orientation,
-                           map_attributes(painting.params), source, painting.params.to_dict(),
-                           {"step": snapshots.step, "snapshot_bytes": snapshots.held_bytes()}, stage)
+    return write_timelapse(staging / TIMELAPSE_DIR, snapshots, (painting.colour, painting.height, painting.opacity),
+                           painting.params.canvas_colour, painting.orientation, map_attributes(painting.params),
+                           source, painting.params.to_dict(), stage)
 
 
 def stroke_list_params(document: dict, path) -> Params:

@@ -135,16 +135,14 @@ def test_a_failed_write_leaves_the_folder_as_it_was(photo, painted, tmp_path, mo
     out = tmp_path / "out"
     shutil.copytree(painted, out)
     before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
-    real = timelapse.frame_task
+    real = timelapse.FrameFiles.write
 
-    def failing(folder, number, *args):
+    def failing(files, folder, number, *args):
         if number == 4:
-            def fail():
-                raise OutputError(f"Cannot write {folder / 'color_0004.exr'}: no space is left on the device.")
-            return fail
-        return real(folder, number, *args)
+            raise OutputError(f"Cannot write {folder / 'color_0004.exr'}: no space is left on the device.")
+        return real(files, folder, number, *args)
 
-    monkeypatch.setattr(timelapse, "frame_task", failing)
+    monkeypatch.setattr(timelapse.FrameFiles, "write", failing)
     with pytest.raises(OutputError) as error:
         paint_file(photo, out, Params(seed=4), timelapse=FRAMES)
     one_sentence(str(error.value))
@@ -221,7 +219,8 @@ def test_half_tables_convert_as_the_writers_do():
 
     linear, png = timelapse.half_tables()
     values = np.random.default_rng(1).random((30, 40, 3)).astype(np.float16)
-    assert np.array_equal(linear[values.view(np.uint16)], srgb_to_linear(values.astype(np.float32)))
+    assert np.array_equal(linear[values.view(np.uint16)],
+                          srgb_to_linear(values.astype(np.float32)).astype(np.float16))
     quantised = np.floor(values.astype(np.float32) * np.float32(255.0) + np.float32(0.5)).astype(np.uint8)
     assert np.array_equal(png[values.view(np.uint16)], quantised)
 

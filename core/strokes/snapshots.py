@@ -13,7 +13,7 @@ when the painting has fewer strokes than that), at about a millisecond of
 processor time a delta at 1 megapixel, merging included (about 740 deltas
 for the 6,692 strokes of 100 frames).
 
-``frames()`` then gives the time-lapse: frame k of N (k = 1 .. N) shows the
+``frame_deltas()`` then gives the time-lapse: frame k of N (k = 1 .. N) shows the
 canvas after the first round(k S / N) of the painting's S strokes rounded down
 to a multiple of the final step, which is a power of two at most S / N, so
 every frame shows more strokes than the one before when S >= N; the last
@@ -33,16 +33,6 @@ class Delta(NamedTuple):
     ascending; colour (K, 3) float16 sRGB [0, 1]; height (K,) float16 >= 0; opacity (K,) float16 [0, 1]."""
 
     index: np.ndarray
-    colour: np.ndarray
-    height: np.ndarray
-    opacity: np.ndarray
-
-
-class Frame(NamedTuple):
-    """One frame of a time-lapse: ``strokes`` laid (of the painting's), its maps colour (H, W, 3) sRGB [0, 1],
-    height (H, W) >= 0 and opacity (H, W) [0, 1], float16 or float32 (the last frame: the painting's own)."""
-
-    strokes: int
     colour: np.ndarray
     height: np.ndarray
     opacity: np.ndarray
@@ -111,26 +101,15 @@ class Snapshots:
         """The bytes the deltas hold."""
         return sum(sum(array.nbytes for array in delta) for delta in self.deltas)
 
-    def frames(self, canvas_colour, colour: np.ndarray, height: np.ndarray, opacity: np.ndarray) -> Iterator[Frame]:
-        """The time-lapse's frames in order (``frame_strokes``), built up from a bare canvas of ``canvas_colour``
-        (sRGB triple) by the deltas; the last is the painting as given: ``colour`` (H, W, 3) sRGB [0, 1],
-        ``height`` and ``opacity`` (H, W), its arrays themselves. Each earlier frame is new arrays of its own."""
-        h, w = self.shape
-        state_colour = np.empty((h * w, 3), np.float16)
-        state_colour[...] = np.clip(np.asarray(canvas_colour, np.float32), 0.0, 1.0).astype(np.float16)
-        state_height = np.zeros(h * w, np.float16)
-        state_opacity = np.zeros(h * w, np.float16)
+    def frame_deltas(self) -> Iterator[Tuple[int, List[Delta]]]:
+        """(strokes shown, deltas) of each time-lapse frame but the last, in order (``frame_strokes``): the frame is
+        the canvas before it (a bare canvas before the first) with ``deltas`` stored in order. The last frame is
+        the painting itself."""
         applied = 0
-        shown = frame_strokes(self.count, self.frame_count, self.step)
-        for strokes in shown[:-1]:
-            for delta in self.deltas[applied:strokes // self.step]:
-                state_colour[delta.index] = delta.colour
-                state_height[delta.index] = delta.height
-                state_opacity[delta.index] = delta.opacity
-            applied = max(applied, strokes // self.step)
-            yield Frame(strokes, state_colour.reshape(h, w, 3).copy(), state_height.reshape(h, w).copy(),
-                        state_opacity.reshape(h, w).copy())
-        yield Frame(shown[-1], colour, height, opacity)
+        for strokes in frame_strokes(self.count, self.frame_count, self.step)[:-1]:
+            upto = max(applied, strokes // self.step)
+            yield strokes, self.deltas[applied:upto]
+            applied = upto
 
 
 def footprints_slice(footprints, first: int, stop: int):
