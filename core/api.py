@@ -63,13 +63,13 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
     with the painting (``painting_timelapse``); report.json records it under "timelapse".
     """
     from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
-    from .files.timelapse import TIMELAPSE_DIR, check_frames
+    from .files.timelapse import FRAME_BYTES_PER_PIXEL, TIMELAPSE_DIR, check_frames
     from .methods.registry import paint
 
     if timelapse:
         check_frames(timelapse)
     width, height = check_input(input_path, params, mask_path, max_memory)
-    budget.check_space(output_dir, input_path, width, height, normal_map)
+    budget.check_space(output_dir, input_path, width, height, normal_map, timelapse * FRAME_BYTES_PER_PIXEL)
     pages = reading.image_count(input_path)
     digest = input_sha256(input_path)
     if pages > 1 and notice is not None:

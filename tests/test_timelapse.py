@@ -234,3 +234,26 @@ def test_an_old_timelapse_left_aside_by_a_killed_commit_is_removed(photo, tmp_pa
     (left / "color_0001.exr").write_bytes(b"old")
     paint_file(photo, out, Params(seed=3), timelapse=2)
     assert not left.exists() and (out / timelapse.TIMELAPSE_DIR / "color_0002.exr").is_file()
+
+
+def test_the_free_space_check_counts_the_timelapse(photo, tmp_path, monkeypatch, capsys):
+    """Room for the painting alone, not for its frames: refused before painting, naming what it needs."""
+    import shutil as shutil_module
+
+    import core.methods.registry
+    from core.files import budget
+
+    width, height = reading.probe(photo)[:2]
+    alone = budget.estimate_output_bytes(width, height)
+    frames = budget.estimate_output_bytes(width, height, timelapse_bytes=50 * timelapse.FRAME_BYTES_PER_PIXEL)
+    assert frames == alone + width * height * 50 * 13
+    free = alone + (frames - alone) // 2
+    monkeypatch.setattr(shutil_module, "disk_usage", lambda path: shutil_module._ntuple_diskusage(1 << 30, 1 << 30,
+                                                                                                  free))
+    out = tmp_path / "out"
+    with monkeypatch.context() as refused:
+        refused.setattr(core.methods.registry, "paint", lambda *a, **k: pytest.fail("painting started"))
+        assert main(["paint", str(photo), "-o", str(out), "-q", "--timelapse", "50"]) == 2
+    err = capsys.readouterr().err
+    assert "not enough space" in err and err.count("\n") == 1 and not out.exists()
+    assert main(["paint", str(photo), "-o", str(out), "-q"]) == 0

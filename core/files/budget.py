@@ -217,9 +217,10 @@ NORMAL_BYTES_PER_PIXEL = 1.0
 """normal.exr's floor in bytes per pixel (1.9 for the flat image above, 3.8 for the cat)."""
 
 
-def estimate_output_bytes(width: int, height: int, normal_map: bool = False) -> int:
-    """The fewest bytes painting a ``width`` x ``height`` image writes (every output file together)."""
-    per_pixel = OUTPUT_BYTES_PER_PIXEL + (NORMAL_BYTES_PER_PIXEL if normal_map else 0.0)
+def estimate_output_bytes(width: int, height: int, normal_map: bool = False, timelapse_bytes: int = 0) -> int:
+    """The fewest bytes painting a ``width`` x ``height`` image writes (every output file together), with
+    ``timelapse_bytes`` per pixel more for a time-lapse."""
+    per_pixel = OUTPUT_BYTES_PER_PIXEL + (NORMAL_BYTES_PER_PIXEL if normal_map else 0.0) + timelapse_bytes
     return int(math.ceil(int(width) * int(height) * per_pixel))
 
 
@@ -237,14 +238,15 @@ def free_bytes(folder) -> Optional[int]:
     return usage.free if usage.total > 0 else None
 
 
-def check_space(folder, source, width: int, height: int, normal_map: bool = False) -> int:
+def check_space(folder, source, width: int, height: int, normal_map: bool = False, timelapse_bytes: int = 0) -> int:
     """Refuse (OutputError, one sentence naming ``folder``) painting ``source`` into ``folder`` when its file
-    system has less free space than the painting will take; returns the estimate in bytes.
+    system has less free space than the painting will take (``timelapse_bytes`` per pixel more for a
+    time-lapse); returns the estimate in bytes.
 
     The whole new painting is written before the files it replaces go, so
     the files already in ``folder`` do not count as free.
     """
-    need = estimate_output_bytes(width, height, normal_map)
+    need = estimate_output_bytes(width, height, normal_map, timelapse_bytes)
     free = free_bytes(folder)
     if free is not None and need > free:
         raise OutputError(f"Cannot paint {source} into the output folder {folder}: not enough space is left on "
