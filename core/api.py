@@ -6,6 +6,8 @@ import contextlib
 import json
 import os
 import shutil
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Callable, Optional
 
@@ -86,10 +88,17 @@ def paint_file(input_path, output_dir, params: Params, progress: ProgressFn = No
                      snapshots=caught.get("snapshots"))
 
     def written(staging: Path, painting) -> dict:
-        if timelapse:
-            painting.statistics["timelapse"] = painting_timelapse(staging, painting, caught["snapshots"],
-                                                                  str(input_path), Stage(progress, cancel))
-        return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)
+        if not timelapse:
+            return write_painting(staging, painting, str(input_path), normal_map, pages=pages, source_sha256=digest)
+        stopped = threading.Event()             # the painting's files failed: the time-lapse stops too
+        with ThreadPoolExecutor(1) as pool:     # the time-lapse written while the painting's own files are
+            lapse = pool.submit(painting_timelapse, staging, painting, caught["snapshots"], str(input_path),
+                                Stage(progress, lambda: stopped.is_set() or bool(cancel is not None and cancel())))
+            try:
+                return write_painting(staging, painting, str(input_path), normal_map, pages=pages,
+                                      source_sha256=digest, more=lambda: {"timelapse": lapse.result()})
+            finally:
+                stopped.set()
 
     caught: dict = {}
     return committed_painting(output_dir, input_path, PAINTING_FILES + ((NORMAL_FILE,) if normal_map else ()),

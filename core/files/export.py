@@ -151,7 +151,8 @@ def map_tasks(folder: Path, suffix: str, colour: np.ndarray, height: np.ndarray,
 
 
 def write_painting(folder: Path, painting: Painting, source: str, normal_map: bool = False, pages: int = 1,
-                   source_sha256: Optional[str] = None, extra_files: Sequence[str] = ()) -> dict:
+                   source_sha256: Optional[str] = None, extra_files: Sequence[str] = (),
+                   more: Optional[Callable[[], dict]] = None) -> dict:
     """Write the painting's files into ``folder``; returns the report written as report.json.
 
     The maps are 16-bit half floats, zip-compressed (8-bit colour needs 1/256;
@@ -176,6 +177,8 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
                  Blender's Normal Map node expects encoded colour data, so load it as Non-Color data
 
     ``extra_files``: names of files the caller wrote into ``folder`` before, listed in the report's "files" too.
+    ``more`` (optional): called once the files are written; what it returns goes into the report (a time-lapse
+    written meanwhile waits there to be finished).
     """
     folder = Path(folder)
     t0 = time.perf_counter()
@@ -197,7 +200,7 @@ def write_painting(folder: Path, painting: Painting, source: str, normal_map: bo
         files[NORMAL_FILE] = file_digest(folder / NORMAL_FILE)
     if extra_files:
         files.update(file_digests(folder, list(extra_files)))
-    report = dict(painting.statistics)
+    report = dict(painting.statistics, **(more() if more is not None else {}))
     report["seconds"] = dict(report["seconds"], writing=round(time.perf_counter() - t0, 4))
     report.update({"input": str(source), "input_page": 0, "input_pages": int(pages)})
     if source_sha256 is not None:
