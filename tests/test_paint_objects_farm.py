@@ -3,7 +3,11 @@ sentence for a bad job while the others are painted, a kept job never sent, and 
 painted whole and the others as they were."""
 
 import json
+import os
 import pickle
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -119,3 +123,54 @@ def test_cancel_stops_the_farm_and_leaves_the_folders_painted_whole_and_the_othe
         if k < 3:
             assert painted_bytes(Path(jobs[k]["output_dir"]), tmp_path) == alone[k]
     assert not [p for p in tmp_path.rglob(".staging-*")]
+
+
+HELD_SCRIPT = '''
+import json, sys, types
+import numpy as np
+sys.modules["only_in_blender"] = types.ModuleType("only_in_blender")      # what the extension's package needs
+from bl_ext.user_default.paint_relief import core
+from bl_ext.user_default.paint_relief.core.farm.cluster import Farm
+from bl_ext.user_default.paint_relief.core.params import Params
+from bl_ext.user_default.paint_relief.core.surface.mesh import SurfaceMesh
+
+
+def main():
+    jobs = json.loads(sys.argv[1])
+    for job in jobs:
+        with np.load(job.pop("arrays")) as arrays:
+            job["mesh"] = SurfaceMesh(arrays["uv"], arrays["position"])
+        job["params"] = Params(seed=job.pop("seed"))
+    outcomes = core.paint_objects(jobs, farm=Farm(workers=2))
+    print(json.dumps([[o.report and o.report["batch"], o.error and type(o.error).__module__] for o in outcomes]))
+
+
+if __name__ == "__main__":
+    main()
+'''
+
+
+def test_inside_an_extension_s_package_the_tasks_name_core_as_the_workers_import_it(tmp_path, alone):
+    """As inside Blender: core is a subpackage of bl_ext.user_default.paint_relief, a name no worker imports; the
+    tasks are sent by core imported on its own from the extension's folder, and the errors come back as the
+    extension's."""
+    extension = tmp_path / "bl_ext" / "user_default" / "paint_relief"
+    shutil.copytree(Path(core.__file__).parent, extension / "core", ignore=shutil.ignore_patterns("__pycache__"))
+    for package in (tmp_path / "bl_ext", tmp_path / "bl_ext" / "user_default"):
+        (package / "__init__.py").write_text("")
+    (extension / "__init__.py").write_text("import only_in_blender\n")
+    jobs = []
+    for k, job in enumerate(scene_jobs(tmp_path / "out")[:2]):
+        np.savez(tmp_path / f"mesh{k}.npz", uv=job["mesh"].uv, position=job["mesh"].position)
+        jobs.append({name: str(value) if isinstance(value, Path) else value for name, value in job.items()
+                     if name not in ("mesh", "params")} | {"arrays": str(tmp_path / f"mesh{k}.npz"),
+                                                             "seed": job["params"].seed})
+    jobs[1]["texture_path"] = str(tmp_path / "missing.png")
+    (tmp_path / "held.py").write_text(HELD_SCRIPT)
+    environment = {name: value for name, value in os.environ.items() if name != "PYTHONPATH"}
+    done = subprocess.run([sys.executable, str(tmp_path / "held.py"), json.dumps(jobs)], cwd=tmp_path,
+                          env=environment, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.splitlines()[-1]) == [
+        ["painted", None], [None, "bl_ext.user_default.paint_relief.core.errors"]]
+    assert painted_bytes(tmp_path / "out" / "sphere", tmp_path) == alone[0]

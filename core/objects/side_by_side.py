@@ -16,6 +16,7 @@ cluster instead, one task each (``farm.objects``), with the same bytes.
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import queue
@@ -131,7 +132,7 @@ def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, pr
         if outcomes[k] is not None:
             speak(k, 1.0, "kept, painted before" if outcomes[k].ok else "not painted")
     if farm is not None and todo:
-        on_farm(farm, paint_object, checked, todo, outcomes, speak, cancel)
+        on_farm(farm, checked, todo, outcomes, speak, cancel)
         return outcomes
     count = min(processes or core_count(), len(todo), memory_bound([checked[k] for k in todo]))
     python = python_program()
@@ -156,11 +157,41 @@ def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, pr
     return outcomes
 
 
-def on_farm(farm, paint_object: Callable, jobs: Dict[int, dict], todo: List[int], outcomes: list, speak: "Progress",
+def on_farm(farm, jobs: Dict[int, dict], todo: List[int], outcomes: list, speak: "Progress",
             cancel: CancelFn) -> None:
     """Paint the jobs ``todo`` (indices into ``jobs``) on the Dask cluster of ``farm``, one task each
-    (``farm.objects.paint_objects_on``), setting their ``outcomes``; Cancelled when ``cancel()`` says so."""
-    from ..api import connected_farm
+    (``farm.objects.paint_objects_on``), setting their ``outcomes``; Cancelled when ``cancel()`` says so.
+
+    The tasks are sent by the package ``core`` of its own (``top_level``), as the workers import it: held inside
+    another package (the extension's inside Blender), whose name no worker imports, the jobs, the farm and the
+    outcomes are carried over between the two by value."""
+    twin = top_level()
+    if twin is sys.modules[__name__]:
+        return farm_jobs(farm, jobs, todo, outcomes, speak, cancel)
+    from ..params import Params
+    from ..surface.mesh import SurfaceMesh
+
+    params, mesh, cluster = (importlib.import_module(f"core.{name}") for name in ("params", "surface.mesh",
+                                                                                 "farm.cluster"))
+    theirs = {k: dict(job, params=params.Params(**{name: getattr(job["params"], name)
+                                                    for name in Params.__dataclass_fields__}),
+                      mesh=mesh.SurfaceMesh(*job["mesh"]) if isinstance(job["mesh"], SurfaceMesh) else job["mesh"])
+              for k, job in jobs.items() if k in todo}
+    their_outcomes = [None] * len(outcomes)
+    try:
+        twin.farm_jobs(cluster.Farm(*farm), theirs, todo, their_outcomes, speak, cancel)
+    except Exception as exc:
+        raise own_error(exc) from None
+    finally:
+        for k, outcome in enumerate(their_outcomes):
+            if outcome is not None:
+                outcomes[k] = ObjectOutcome(outcome.report, outcome.error and own_error(outcome.error))
+
+
+def farm_jobs(farm, jobs: Dict[int, dict], todo: List[int], outcomes: list, speak: "Progress",
+              cancel: CancelFn) -> None:
+    """``on_farm``'s painting, by this package."""
+    from ..api import connected_farm, paint_object
     from ..farm.cluster import describe
     from ..farm.objects import paint_objects_on
 
@@ -176,6 +207,34 @@ def on_farm(farm, paint_object: Callable, jobs: Dict[int, dict], todo: List[int]
             paint_objects_on(client, paint_object, {k: jobs[k] for k in todo}, finished, cancel)
         except Cancelled:
             raise cancelled(outcomes) from None
+
+
+def top_level():
+    """This module as the package ``core`` of its own imports it, ``ROOT`` on the path (so its tasks name what a
+    Dask worker imports): itself when ``core`` is that package. ParameterError (one sentence) when another
+    package named ``core`` is found first."""
+    if __name__ == "core.objects.side_by_side":
+        return sys.modules[__name__]
+    if str(ROOT) not in sys.path:
+        sys.path.append(str(ROOT))
+    twin = importlib.import_module("core.objects.side_by_side")
+    if Path(twin.__file__).resolve() != Path(__file__).resolve():
+        raise ParameterError(f"The objects cannot be painted on a farm from here: the package core imported is "
+                             f"{Path(twin.__file__).parents[1]}, not the painter's {ROOT / 'core'}.")
+    return twin
+
+
+def own_error(exc: BaseException) -> BaseException:
+    """An error of the package ``core`` of its own (``top_level``) as this package's class of the same name (a
+    PaintReliefError when there is none); any other exception as it is."""
+    from ..farm import cluster
+
+    if not type(exc).__module__.startswith("core."):
+        return exc
+    kind = getattr(errors, type(exc).__name__, None) or getattr(cluster, type(exc).__name__, None)
+    if not (isinstance(kind, type) and issubclass(kind, PaintReliefError)):
+        kind = PaintReliefError
+    return kind(str(exc))
 
 
 class Progress:
