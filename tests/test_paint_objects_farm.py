@@ -48,15 +48,21 @@ def painted_bytes(folder: Path, root: Path) -> dict:
     return dict(files, **{"report.json": json.dumps(report, sort_keys=True).encode()})
 
 
+def farm_jobs(root: Path) -> list:
+    """``scene_jobs`` and the sphere at 256 texels, whose height the number of BLAS threads changes."""
+    jobs = scene_jobs(root)
+    return jobs + [dict(jobs[0], output_dir=root / "big", texture_size=256)]
+
+
 @pytest.fixture(scope="module")
 def alone(tmp_path_factory):
-    """Each job of ``scene_jobs`` painted by paint_object alone: [painted_bytes of its folder]."""
+    """Each job of ``farm_jobs`` painted by paint_object alone: [painted_bytes of its folder]."""
     root = tmp_path_factory.mktemp("alone")
-    return [painted_bytes(Path(core.paint_object(**job)["output_dir"]), root) for job in scene_jobs(root)]
+    return [painted_bytes(Path(core.paint_object(**job)["output_dir"]), root) for job in farm_jobs(root)]
 
 
 def test_each_object_is_one_task_on_the_farm_with_the_bytes_paint_object_writes_alone(tmp_path, alone):
-    jobs = scene_jobs(tmp_path)
+    jobs = farm_jobs(tmp_path)
     for job in jobs:                                            # the meshes travel to the workers as they are
         mesh = pickle.loads(pickle.dumps(job["mesh"]))
         assert isinstance(mesh, SurfaceMesh) and all(
@@ -64,12 +70,12 @@ def test_each_object_is_one_task_on_the_farm_with_the_bytes_paint_object_writes_
             for a, b in zip(mesh, job["mesh"], strict=True))
     heard = []
     outcomes = core.paint_objects(jobs, progress=lambda f, m: heard.append((f, m)), farm=FARM)
-    assert [outcome.error for outcome in outcomes] == [None] * 3
+    assert [outcome.error for outcome in outcomes] == [None] * 4
     for outcome, job, files in zip(outcomes, jobs, alone, strict=True):
         assert outcome.report["batch"] == "painted"
         assert outcome.report["output_dir"] == str(Path(job["output_dir"]).resolve())
         assert painted_bytes(Path(job["output_dir"]), tmp_path) == files
-    assert sorted(m for _, m in heard) == [f"Object {k}/3: painted (2 workers)" for k in (1, 2, 3)]
+    assert sorted(m for _, m in heard) == [f"Object {k}/4: painted (2 workers)" for k in (1, 2, 3, 4)]
     assert [f for f, _ in heard] == sorted(f for f, _ in heard) and heard[-1][0] == 1.0
 
 
