@@ -4,7 +4,7 @@ four ways: the painted world relit by the scene's lights, the scene as it was, e
 
     blender -b --python-exit-code 1 --python sample_scenes/paint_scene.py -- SCENE.blend -o OUTDIR \\
         [--frames A-B] [--texture-size N] [--samples S] [--resolution-percentage P] [--seed N] \\
-        [--relief DISPLACE|CYCLES_ADAPTIVE|NORMAL_MAP]
+        [--relief DISPLACE|CYCLES_ADAPTIVE|NORMAL_MAP] [--workers N | --scheduler tcp://HOST:PORT]
     .venv/bin/python sample_scenes/paint_scene.py SCENE.blend -o OUTDIR [options]
 
 Steps, each printed with its time:
@@ -14,7 +14,11 @@ Steps, each printed with its time:
 2. ``paint``: Paint Scene paints every mesh object the scene's camera sees over the frame range into
    ``OUTDIR/maps`` (a folder per texture, and ``paint_scene.json``), with the stroke widths read from the
    camera (``addon/objects/ops_scene_paint.py``), and gives each object its painted material and relief; an
-   object it cannot paint is named in one sentence on stderr and the others are painted;
+   object it cannot paint is named in one sentence on stderr and the others are painted. With ``--workers N``
+   the textures are painted on a local Dask cluster of N worker processes, with ``--scheduler`` on the cluster
+   whose scheduler is there (its workers see the sources and OUTDIR at the same paths), each texture one task,
+   with the same bytes (``core.paint_objects``' farm); without Dask distributed either is refused in one
+   sentence before anything is painted;
 3. ``renders``: the frame range rendered by Cycles with the Vector pass, with the painted world
    (``renders/relit``), the original materials (``renders/original``) and the paper's Eq. 6-7 lighting of each
    texture as emission (``renders/paper``), as multilayer EXR;
@@ -37,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import json
 import shutil
 import signal
@@ -65,6 +70,12 @@ def arguments(argv):
     parser.add_argument("--seed", type=int, default=0, help="the painter's seed (default 0)")
     parser.add_argument("--relief", default="DISPLACE", choices=("DISPLACE", "CYCLES_ADAPTIVE", "NORMAL_MAP"),
                         help="how the paint's thickness shows on the objects, as the panel's Relief")
+    farm = parser.add_mutually_exclusive_group()
+    farm.add_argument("--workers", type=int, default=None, metavar="N",
+                      help="paint the textures on a local Dask cluster of N worker processes (needs Dask)")
+    farm.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                      help="paint the textures on the Dask cluster whose scheduler is at ADDRESS (tcp://host:8786); "
+                           "its workers must see the sources and OUTDIR at the same paths")
     args = parser.parse_args(argv[argv.index("--") + 1:] if "--" in argv else argv[1:])
     if args.samples < 1 or (args.resolution_percentage is not None and not 1 <= args.resolution_percentage <= 100):
         parser.error("give at least 1 sample and a resolution percentage from 1 to 100")
@@ -117,6 +128,23 @@ def film_settings(scene, samples):
         image.media_type = "MULTI_LAYER_IMAGE"
     image.file_format = "OPEN_EXR_MULTILAYER"
     image.color_depth = "32"
+
+
+def scene_farm(args, package):
+    """Hand ``--workers`` or ``--scheduler`` to Paint Scene (``ops_scene_paint.FARM``), checked: ParameterError (one
+    sentence) for a wrong one, or when Dask distributed is missing here (as inside Blender without it)."""
+    if args.workers is None and args.scheduler is None:
+        return
+    cluster = importlib.import_module(package.__name__ + ".core.farm.cluster")
+    farm = cluster.Farm(args.workers, args.scheduler)
+    farm.validate()
+    try:        # looked for, not imported: Dask loaded before the bakes changes how Blender compresses them
+        missing = importlib.util.find_spec("distributed") is None
+    except (ImportError, ValueError):
+        missing = True
+    if missing:
+        cluster.import_distributed()
+    importlib.import_module(package.__name__ + ".addon.objects.ops_scene_paint").FARM = farm
 
 
 def paint(args, maps):
@@ -235,6 +263,7 @@ def main(argv):
         object_material = importlib.import_module(package.__name__ + ".addon.objects.object_material")
         surface = importlib.import_module(package.__name__ + ".addon.objects.surface")
         ops_paint = importlib.import_module(package.__name__ + ".addon.painting.ops_paint")
+        scene_farm(args, package)
 
         step("paint")
         painted_scene = paint(args, out / "maps")

@@ -76,3 +76,28 @@ def test_a_scene_that_is_no_blend_file_is_one_sentence_and_exit_1(tmp_path):
     assert failed.returncode == 1
     assert failed.stderr.strip().splitlines()[-1].startswith(f"The scene {tmp_path / 'scene.txt'} is no .blend file")
     assert not (tmp_path / "out").exists()
+
+
+WITHOUT_DASK = '''
+import runpy, sys
+sys.modules["distributed"] = None                   # as inside a Blender without Dask distributed
+sys.argv = sys.argv[1:]
+runpy.run_path(sys.argv[0], run_name="__main__")
+'''
+
+
+def test_a_farm_without_dask_is_one_sentence_and_exit_1_before_anything_is_painted(tmp_path):
+    need_bpy()
+    saved = subprocess.run([sys.executable, "-c", "import bpy, sys; bpy.ops.wm.save_as_mainfile(filepath=sys.argv[1])",
+                            str(tmp_path / "cube.blend")], capture_output=True, text=True, timeout=300,
+                           env=user_env(tmp_path), cwd=tmp_path)
+    assert saved.returncode == 0, saved.stderr[-3000:]
+    for farm in (["--workers", "2"], ["--scheduler", "tcp://127.0.0.1:8786"]):
+        result = subprocess.run([sys.executable, "-c", WITHOUT_DASK, str(SCRIPTS / "paint_scene.py"),
+                                 str(tmp_path / "cube.blend"), "-o", str(tmp_path / "out"), *farm],
+                                capture_output=True, text=True, timeout=300, env=user_env(tmp_path), cwd=tmp_path)
+        assert result.returncode == 1, result.stderr[-3000:]
+        assert result.stderr.strip().splitlines()[-1] == (
+            "Painting on a Dask cluster needs Dask distributed, which is not installed here: pip install "
+            "'paint-relief[farm]' (or dask[distributed]).")
+        assert "[paint]" not in result.stdout and not (tmp_path / "out").exists()

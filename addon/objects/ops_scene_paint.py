@@ -10,8 +10,8 @@ painted render of the scene. Objects wearing the same pictures are painted
 as one texture (``scene_jobs``). Each object's sources are gathered on the
 main thread, one object per timer event with its name in the status text
 (its bake may take a while); then every texture is painted in one call of
-``core.paint_objects``, side by side on the machine's cores, in a worker
-thread with the progress bar and Esc; then each object gets its painted
+``core.paint_objects``, side by side on the machine's cores (or on the Dask
+cluster of ``FARM``), in a worker thread with the progress bar and Esc; then each object gets its painted
 material and relief as Paint Object gives them. Painting again into the
 same folder keeps every texture whose painting is there already, from the
 same sources, mesh and settings, and paints only what is missing or
@@ -42,6 +42,10 @@ WIDTH_DECIMALS = 2
 moves its objects' boxes by a hair, reads the same widths again and keeps its paintings."""
 REPORT_FILE = "paint_scene.json"
 """The file in the scene's folder that says what the last Paint Scene painted, kept, and could not paint."""
+FARM = None
+"""The ``core.farm.cluster.Farm`` (local Dask workers or a scheduler's address) Paint Scene paints its textures on,
+or None to paint them on this machine's cores. The panel leaves it None; a headless script sets it
+(``sample_scenes/paint_scene.py --workers N``)."""
 
 
 def scene_output_dir(context):
@@ -162,7 +166,7 @@ class ScenePaint:
                          stroke_mm=self.stroke_mm, normal_map=self.normal_map,
                          keep_source=scene_jobs.keeps_source(p.paths, self.scratch), extensions=p.extensions)
                     for p in self.paintings]
-        outcomes = self.core.paint_objects(requests, progress=progress, cancel=cancel)
+        outcomes = self.core.paint_objects(requests, progress=progress, cancel=cancel, farm=FARM)
         self.seconds["paint"] = time.perf_counter() - started
         return outcomes
 

@@ -22,7 +22,6 @@ from pathlib import Path
 from typing import Iterator, List, NamedTuple, Optional
 
 from ..errors import OutputError, PaintReliefError, ParameterError, plain_cause
-from ..files.staging import PROBE_PREFIX
 from . import address as addresses
 from . import software
 
@@ -224,6 +223,9 @@ def check_new_workers(client, workers, checked: set, readable: List[Path], writa
 
 def path_problem(readable: List[str], writable: List[str]) -> Optional[str]:
     """Run on a worker: what it cannot do of reading ``readable`` and writing into ``writable``, or None."""
+    # imported here: it loads OpenImageIO, which a Farm alone does not need
+    from ..files.staging import PROBE_PREFIX
+
     host = socket.gethostname()
     for path in readable:
         try:

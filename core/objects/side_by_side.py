@@ -10,11 +10,13 @@ changes no byte: ``core.workers``), committed all together or not at all.
 
 A job whose folder already holds its painting (``kept_report``) is kept and
 not painted again, so a run stopped anywhere and run again paints only what
-is missing or changed.
+is missing or changed. With a farm the jobs not kept are painted on a Dask
+cluster instead, one task each (``farm.objects``), with the same bytes.
 """
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import queue
@@ -72,7 +74,7 @@ def core_count() -> int:
 
 
 def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, processes: Optional[int] = None,
-                  notice: Optional[Callable[[str], None]] = None) -> List[ObjectOutcome]:
+                  notice: Optional[Callable[[str], None]] = None, farm=None) -> List[ObjectOutcome]:
     """Paint every job of ``jobs``, side by side on the machine's cores; return an ``ObjectOutcome`` per job, in
     order.
 
@@ -89,6 +91,11 @@ def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, pr
     progress(fraction, message): the fraction of all jobs done (a job's own progress counted in), the message
     the one of the job that spoke, "Object k/N: ...". cancel(): when it returns True every worker stops (each
     unfinished folder stays as it was) and Cancelled is raised; the jobs painted stay painted.
+    farm: a ``core.farm.cluster.Farm`` (local workers or a scheduler's address) to paint the jobs not kept on a Dask
+    cluster instead, each as one task (``farm.objects``), with the same bytes; ``processes`` is then not used, and
+    the progress is spoken as each job is done, "Object k/N: painted (2 workers)". Its workers must read the
+    sources and write the folders at the same paths (one sentence naming the worker and the path); a lost
+    scheduler is a FarmError. No cluster is reached when every job is kept or failed its checks.
     ParameterError in one sentence for no jobs or a wrong ``processes``; the temporary folder handing the
     jobs over is removed whatever happens.
     """
@@ -124,6 +131,9 @@ def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, pr
     for k in range(total):
         if outcomes[k] is not None:
             speak(k, 1.0, "kept, painted before" if outcomes[k].ok else "not painted")
+    if farm is not None and todo:
+        on_farm(farm, checked, todo, outcomes, speak, cancel)
+        return outcomes
     count = min(processes or core_count(), len(todo), memory_bound([checked[k] for k in todo]))
     python = python_program()
     if count > 1 and python is None and notice is not None:
@@ -145,6 +155,86 @@ def paint_objects(jobs, progress: ProgressFn = None, cancel: CancelFn = None, pr
                 outcomes[k] = ObjectOutcome(dict(report, batch=PAINTED), None)
             speak(k, 1.0, "painted" if outcomes[k].ok else "not painted")
     return outcomes
+
+
+def on_farm(farm, jobs: Dict[int, dict], todo: List[int], outcomes: list, speak: "Progress",
+            cancel: CancelFn) -> None:
+    """Paint the jobs ``todo`` (indices into ``jobs``) on the Dask cluster of ``farm``, one task each
+    (``farm.objects.paint_objects_on``), setting their ``outcomes``; Cancelled when ``cancel()`` says so.
+
+    The tasks are sent by the package ``core`` of its own (``top_level``), as the workers import it: held inside
+    another package (the extension's inside Blender), whose name no worker imports, the jobs, the farm and the
+    outcomes are carried over between the two by value."""
+    twin = top_level()
+    if twin is sys.modules[__name__]:
+        return farm_jobs(farm, jobs, todo, outcomes, speak, cancel)
+    from ..params import Params
+    from ..surface.mesh import SurfaceMesh
+
+    params, mesh, cluster = (importlib.import_module(f"core.{name}") for name in ("params", "surface.mesh",
+                                                                                 "farm.cluster"))
+    theirs = {k: dict(job, params=params.Params(**{name: getattr(job["params"], name)
+                                                    for name in Params.__dataclass_fields__}),
+                      mesh=mesh.SurfaceMesh(*job["mesh"]) if isinstance(job["mesh"], SurfaceMesh) else job["mesh"])
+              for k, job in jobs.items() if k in todo}
+    their_outcomes = [None] * len(outcomes)
+    try:
+        twin.farm_jobs(cluster.Farm(*farm), theirs, todo, their_outcomes, speak, cancel)
+    except Exception as exc:
+        raise own_error(exc) from None
+    finally:
+        for k, outcome in enumerate(their_outcomes):
+            if outcome is not None:
+                outcomes[k] = ObjectOutcome(outcome.report, outcome.error and own_error(outcome.error))
+
+
+def farm_jobs(farm, jobs: Dict[int, dict], todo: List[int], outcomes: list, speak: "Progress",
+              cancel: CancelFn) -> None:
+    """``on_farm``'s painting, by this package."""
+    from ..api import connected_farm, paint_object
+    from ..farm.cluster import describe
+    from ..farm.objects import paint_objects_on
+
+    with connected_farm(farm) as client:
+        where = describe(client)
+
+        def finished(k: int, report: Optional[dict], error: Optional[PaintReliefError]) -> None:
+            outcomes[k] = ObjectOutcome(None, error) if error is not None else ObjectOutcome(
+                dict(report, batch=PAINTED), None)
+            speak(k, 1.0, f"painted ({where})" if error is None else f"not painted ({where})")
+
+        try:
+            paint_objects_on(client, paint_object, {k: jobs[k] for k in todo}, finished, cancel)
+        except Cancelled:
+            raise cancelled(outcomes) from None
+
+
+def top_level():
+    """This module as the package ``core`` of its own imports it, ``ROOT`` on the path (so its tasks name what a
+    Dask worker imports): itself when ``core`` is that package. ParameterError (one sentence) when another
+    package named ``core`` is found first."""
+    if __name__ == "core.objects.side_by_side":
+        return sys.modules[__name__]
+    if str(ROOT) not in sys.path:
+        sys.path.append(str(ROOT))
+    twin = importlib.import_module("core.objects.side_by_side")
+    if Path(twin.__file__).resolve() != Path(__file__).resolve():
+        raise ParameterError(f"The objects cannot be painted on a farm from here: the package core imported is "
+                             f"{Path(twin.__file__).parents[1]}, not the painter's {ROOT / 'core'}.")
+    return twin
+
+
+def own_error(exc: BaseException) -> BaseException:
+    """An error of the package ``core`` of its own (``top_level``) as this package's class of the same name (a
+    PaintReliefError when there is none); any other exception as it is."""
+    from ..farm import cluster
+
+    if not type(exc).__module__.startswith("core."):
+        return exc
+    kind = getattr(errors, type(exc).__name__, None) or getattr(cluster, type(exc).__name__, None)
+    if not (isinstance(kind, type) and issubclass(kind, PaintReliefError)):
+        kind = PaintReliefError
+    return kind(str(exc))
 
 
 class Progress:
