@@ -68,8 +68,9 @@ def test_each_object_is_one_task_on_the_farm_with_the_bytes_paint_object_writes_
         assert isinstance(mesh, SurfaceMesh) and all(
             (a is None and b is None) or (np.array_equal(a, b) and a.dtype == b.dtype)
             for a, b in zip(mesh, job["mesh"], strict=True))
-    heard = []
+    heard, environment = [], dict(os.environ)
     outcomes = core.paint_objects(jobs, progress=lambda f, m: heard.append((f, m)), farm=FARM)
+    assert dict(os.environ) == environment       # no Dask setting left for the processes started after
     assert [outcome.error for outcome in outcomes] == [None] * 4
     for outcome, job, files in zip(outcomes, jobs, alone, strict=True):
         assert outcome.report["batch"] == "painted"

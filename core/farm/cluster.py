@@ -75,6 +75,7 @@ def connected(farm: Farm) -> Iterator[object]:
     quiet_logs()
     with contextlib.ExitStack() as stack:
         if farm.scheduler is None:
+            stack.enter_context(environment_kept())
             cluster = stack.enter_context(distributed.LocalCluster(
                 n_workers=farm.workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                 silence_logs=logging.CRITICAL))
@@ -90,6 +91,23 @@ def connected(farm: Farm) -> Iterator[object]:
             check_software(client, list(client.nthreads()))     # a worker without the painter that just joined
             raise
         yield client
+
+
+@contextlib.contextmanager
+def environment_kept() -> Iterator[None]:
+    """This process's environment as it was before the block, once it ends: a local cluster's nannies leave Dask's
+    settings for the processes they start in it (one BLAS and OpenMP thread, a malloc trim threshold), and every
+    process this one starts later (the side-by-side painters of ``core.objects``) would run with them, slower
+    and, with one BLAS thread, painting other bytes."""
+    saved = dict(os.environ)
+    try:
+        yield
+    finally:
+        for name in set(os.environ) - set(saved):
+            del os.environ[name]
+        for name, value in saved.items():
+            if os.environ.get(name) != value:
+                os.environ[name] = value
 
 
 def quiet_logs() -> None:
