@@ -135,7 +135,7 @@ def stroke_list_params(document: dict, path) -> Params:
 
 
 def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = None,
-             normal_map: bool = False) -> dict:
+             normal_map: bool = False, cancel: CancelFn = None) -> dict:
     """Lay the stroke list ``strokes_path`` (a strokes.json of format 2) on a blank canvas, against the photograph
     ``reference_path`` it was painted from, and write the files ``paint_file`` writes into ``output_dir``; return
     the report.
@@ -144,15 +144,17 @@ def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = No
     read or laid (not strict JSON, not a stroke list, another format, a stroke without laying data or whose data
     do not fit its brush) and a reference of another size than the list's are refused in one sentence naming the
     file, before anything is written; the outputs are committed all together or not at all, as ``paint_file``'s.
+    progress(fraction, message) hears the analysis and the strokes laid, after each run of them; cancel() is
+    polled as often, and when it returns True, Cancelled leaves ``output_dir`` as it was.
     """
     from .files.stroke_file import read_stroke_file
 
     path = Path(strokes_path)
-    return lay_document(read_stroke_file(path), path, reference_path, output_dir, progress, normal_map)
+    return lay_document(read_stroke_file(path), path, reference_path, output_dir, progress, normal_map, cancel)
 
 
 def lay_document(document: dict, path: Path, reference_path, output_dir, progress: ProgressFn = None,
-                 normal_map: bool = False) -> dict:
+                 normal_map: bool = False, cancel: CancelFn = None) -> dict:
     """``lay_file`` of a stroke list ``document`` already read (``read_stroke_file``) from ``path``, the file its
     sentences name."""
     from .files.export import NORMAL_FILE, PAINTING_FILES, input_sha256, write_painting
@@ -181,7 +183,7 @@ def lay_document(document: dict, path: Path, reference_path, output_dir, progres
     def painted():
         image = reading.read_image(reference_path, params.max_megapixels, params.canvas_colour)
         try:
-            return lay_painting(image, strokes, records, params, progress=progress)
+            return lay_painting(image, strokes, records, params, progress=progress, cancel=cancel)
         except (ValueError, IndexError) as exc:
             raise InputError(f"The stroke list {path} cannot be laid: {str(exc).rstrip('.')}.") from None
 
@@ -229,7 +231,8 @@ def painted_reference(painted_dir) -> Path:
     return Path(source)
 
 
-def lay_drawn(painted_dir, drawn, output_dir, reference_path=None, progress: ProgressFn = None) -> dict:
+def lay_drawn(painted_dir, drawn, output_dir, reference_path=None, progress: ProgressFn = None,
+              cancel: CancelFn = None) -> dict:
     """Lay ``drawn`` (``DrawnStrokes``: the painting's strokes as a drawing program holds them after editing, in
     laying order) into a new painting in ``output_dir``, as ``lay_file`` lays a list; return the report.
 
@@ -237,7 +240,7 @@ def lay_drawn(painted_dir, drawn, output_dir, reference_path=None, progress: Pro
     data with their moves and colour changes applied, strokes drawn anew get the painting's brush
     (``core.strokes.redrawn``); the reference is ``reference_path``, else the photograph PAINTED_DIR's
     report.json names. One sentence naming the file for whatever cannot be read or laid, before anything is
-    written; the outputs are committed all together or not at all.
+    written; the outputs are committed all together or not at all. progress and cancel as ``lay_file``'s.
     """
     from .files.stroke_file import FORMAT, STROKES_FILE, read_stroke_file
     from .strokes.redrawn import redrawn_document
@@ -259,7 +262,7 @@ def lay_drawn(painted_dir, drawn, output_dir, reference_path=None, progress: Pro
         edited = redrawn_document(document, drawn, params)
     except ValueError as exc:
         raise InputError(f"The stroke list {path} cannot be laid again: {str(exc).rstrip('.')}.") from None
-    return lay_document(edited, path, reference, output_dir, progress)
+    return lay_document(edited, path, reference, output_dir, progress, cancel=cancel)
 
 
 def committed_painting(output_dir, input_path, names: tuple, painted: Callable[[], object],

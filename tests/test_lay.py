@@ -123,3 +123,31 @@ def test_an_empty_list_lays_a_bare_canvas(painted, tmp_path):
     strokes = edited_list(folder, tmp_path, lambda d: d.update(strokes=[]))
     assert lay(strokes, photo, tmp_path / "laid") == 0
     assert np.all(reading.read_exr(tmp_path / "laid" / "opacity.exr")[0] == 0)
+
+
+def test_laying_shows_its_progress_and_a_cancel_leaves_the_folder_as_it_was(tmp_path, half_textured):
+    from core.api import lay_file
+    from core.errors import Cancelled
+
+    photo, folder = tmp_path / "photo.png", tmp_path / "painted"
+    writing.write_png(photo, half_textured(160, 200))
+    assert main(["paint", str(photo), "-o", str(folder), "-q", "--seed", "3", "--strokes-to-lay"]) == 0
+    heard = []
+    lay_file(folder / "strokes.json", photo, tmp_path / "laid", progress=lambda f, m: heard.append((f, m)))
+    fractions = [f for f, _ in heard]
+    laid = [m for _, m in heard if m.startswith("Laid ")]
+    strokes = json.loads((folder / "report.json").read_text())["strokes"]
+    assert fractions == sorted(fractions) and len(laid) >= 2 and laid[-1] == f"Laid {strokes} of {strokes} strokes"
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("the user's own file\n")
+    heard.clear()
+
+    def cancel():
+        return any(m.startswith("Laid ") for _, m in heard)
+
+    with pytest.raises(Cancelled) as stopped:
+        lay_file(folder / "strokes.json", photo, out, progress=lambda f, m: heard.append((f, m)), cancel=cancel)
+    one_sentence(str(stopped.value))
+    assert sum(m.startswith("Laid ") for _, m in heard) == 1 and heard[-1][1] != laid[-1]
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]

@@ -1,14 +1,19 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Operators of the Grease Pencil round trip (``round_trip``): Strokes as Grease Pencil, Lay Grease Pencil Strokes.
 
-Both run whole in ``execute()`` (headless too) and report a problem in one
-sentence, returning {'CANCELLED'} with the scene unchanged.
+Strokes as Grease Pencil runs whole in ``execute()``; Lay Grease Pencil
+Strokes is a long operator (``jobs.SceneJob``): headless whole, interactively
+laying in a worker thread with a progress bar, a status text and Esc. Both
+report a problem in one sentence, returning {'CANCELLED'} with the scene
+unchanged.
 """
 
 import bpy
 from bpy.types import Operator
 
 from .. import dependencies
+from ..modal_job import Outcome, Worker
+from ..painting import jobs
 from ..scene import canvas_plane
 from . import grease_pencil, round_trip
 
@@ -50,7 +55,7 @@ class PAINT_RELIEF_OT_strokes_to_grease_pencil(Operator):
         return {"FINISHED"}
 
 
-class PAINT_RELIEF_OT_lay_grease_pencil(Operator):
+class PAINT_RELIEF_OT_lay_grease_pencil(jobs.SceneJob, Operator):
     """Lay the strokes of the painting's Grease Pencil object, as they are now (moved, deleted, recoloured, drawn
     anew in its Paint layer), into a new painting, and show it on the canvas"""
 
@@ -64,18 +69,60 @@ class PAINT_RELIEF_OT_lay_grease_pencil(Operator):
             grease_pencil.active_strokes(context) is not None
 
     def execute(self, context):
+        started = self._checked_work(context)
+        if started is None:
+            return {"CANCELLED"}
+        outcome = Outcome().run(*started, sentences=_user_errors())
+        jobs.end(context.scene)
+        return self.report_outcome(outcome, lambda report: self._finish(context, report), False)
+
+    def begin_modal(self, context):
+        """Read the strokes, then lay them in a worker thread while the timer shows its progress."""
+        started = self._checked_work(context)
+        if started is None:
+            return {"CANCELLED"}
+        self._scene = context.scene
+        self.start_timer(context)
+        self._worker = Worker(*started)
+        return {"RUNNING_MODAL"}
+
+    def step(self, context):
+        if self.show_worker(context):
+            return {"RUNNING_MODAL"}
+        self._end(context)
+        worker = self._worker
+        return self.report_outcome(worker, lambda report: self._finish(context, report), worker.cancel.is_set())
+
+    def _checked_work(self, context):
+        """Read the active object's strokes and record that the scene paints; (work, failure), or None after
+        reporting the problem."""
         missing = dependencies.problem()
         if missing is not None:
             self.report({"ERROR"}, missing)
-            return {"CANCELLED"}
+            return None
         obj = grease_pencil.active_strokes(context)
         try:
-            report = round_trip.lay_strokes(context, obj)
+            folder, drawn, out = round_trip.prepare_lay(obj)
+            jobs.begin(context.scene)
         except _user_errors() as error:
             self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
+            return None
+        self._object_name, self._folder = obj.name, folder
+        return round_trip.lay_work(folder, drawn, out), lambda error: "Laying {}'s strokes failed: {}".format(
+            obj.name, error)
+
+    def _finish(self, context, report):
+        obj = bpy.data.objects.get(self._object_name)
+        if obj is None:
+            self.report({"WARNING"}, "{} was removed while its strokes were laid; the painting is in {}".format(
+                self._object_name, report["output_dir"]))
+            return
+        try:
+            round_trip.show_laid(context, obj, self._folder, report)
+        except _user_errors() as error:
+            self.report({"WARNING"}, "The strokes were laid into {}, but {}".format(report["output_dir"], error))
+            return
         self.report({"INFO"}, "Laid {} strokes into {}".format(report.get("strokes"), report["output_dir"]))
-        return {"FINISHED"}
 
 
 classes = (PAINT_RELIEF_OT_strokes_to_grease_pencil, PAINT_RELIEF_OT_lay_grease_pencil)

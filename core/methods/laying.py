@@ -15,7 +15,7 @@ import numpy as np
 
 from ..analysis.run import analyze, check_image
 from ..params import Params
-from ..progress import ProgressFn
+from ..progress import CancelFn, ProgressFn, Stage
 from ..results import Painting
 from ..strokes.canvas import Canvas
 from ..strokes.stroke import Stroke
@@ -34,23 +34,31 @@ def strokes_per_layer(strokes: StrokeList, params: Params) -> List[int]:
     return [int(count) for count in per_layer]
 
 
+ANALYSIS_SHARE = 0.3
+"""The share of ``lay_painting``'s progress the analysis takes."""
+
+
 def lay_painting(image: np.ndarray, strokes: StrokeList, records: List[Stroke], params: Params,
-                 progress: ProgressFn = None) -> Painting:
+                 progress: ProgressFn = None, cancel: CancelFn = None) -> Painting:
     """The Painting of ``strokes`` (and their ``records``, in the same order) laid on a blank canvas of the size
     of ``image`` (H, W, 3) sRGB [0, 1], the photograph they were painted from, with ``params`` as painted.
 
     The image's analysis gives the orientation field (orientation.exr and
     the paper's lighting) and the grid count; the statistics are those
     ``huang11.paint`` reports (PSNR against ``image``). A stroke whose data
-    does not fit its brush raises ValueError.
+    does not fit its brush raises ValueError. progress(fraction, message) hears the analysis and the strokes
+    laid after each run of them; cancel() is polled as often and raises Cancelled when it returns True.
     """
     image = check_image(image)
-    analysis = analyze(image, params)
-    if progress is not None:
-        progress(0.3, f"Laying {len(strokes)} strokes")
+    stage = Stage(progress, cancel)
+    analysis = analyze(image, params, progress=stage.sub(0.0, ANALYSIS_SHARE).report if progress else None,
+                       cancel=cancel)
+    laying = stage.sub(ANALYSIS_SHARE, 1.0)
+    laying.report(0.0, f"Laying {len(strokes)} strokes")
     t0 = time.perf_counter()
     canvas = Canvas.blank(image.shape[:2], params.canvas_colour)
-    lay_strokes(canvas, strokes, stroke_tips(strokes, params), params)
+    lay_strokes(canvas, strokes, stroke_tips(strokes, params), params,
+                lambda laid: laying.report(laid / max(1, len(strokes)), f"Laid {laid} of {len(strokes)} strokes"))
     seconds = {**analysis.seconds, "strokes": time.perf_counter() - t0}
     per_layer = strokes_per_layer(strokes, params)
     statistics = painting_statistics(image, canvas.colour, records, per_layer, len(analysis.grids),

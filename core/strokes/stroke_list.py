@@ -264,11 +264,13 @@ def laying_bands(strokes: StrokeList, height: int, parts: int) -> List[Tuple[int
     return best
 
 
-def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int], BrushTip], params: Params) -> None:
+def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int], BrushTip], params: Params,
+                report: Optional[Callable[[int], None]] = None) -> None:
     """Lay ``strokes`` on ``canvas`` in the list's order, as the painter laid them (``lay_round``, one
     ``lay_chunks`` chunk of a run after another). tips: {(brush, size): BrushTip} (``stroke_tips``); params:
     the renderer, height mode and build, taper and relief the strokes were painted with. A run's bristle
-    colours must be one per bristle of its tip (ValueError)."""
+    colours must be one per bristle of its tip (ValueError). ``report`` (optional) hears the strokes laid so far
+    after each chunk (it may raise, to stop)."""
     for first, stop in strokes.runs():
         size = int(strokes.size[first])
         tip = tips[int(strokes.brush[first]), size]
@@ -278,6 +280,8 @@ def lay_strokes(canvas: Canvas, strokes: StrokeList, tips: Dict[Tuple[int, int],
         plan = strokes.round_plan(first, stop)
         for start, end in lay_chunks(plan.paths, tip, size):
             lay_round(canvas, plan.subset(slice(start, end)), size, tip, params)
+            if report is not None:
+                report(first + end)
 
 
 def stroke_tips(strokes: StrokeList, params: Params) -> Dict[Tuple[int, int], BrushTip]:
