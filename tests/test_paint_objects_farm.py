@@ -49,7 +49,7 @@ def painted_bytes(folder: Path, root: Path) -> dict:
 
 
 def farm_jobs(root: Path) -> list:
-    """``scene_jobs`` and the sphere at 256 texels, whose height the number of BLAS threads changes."""
+    """``scene_jobs`` and the sphere at 256 texels, whose bytes the number of BLAS threads once changed."""
     jobs = scene_jobs(root)
     return jobs + [dict(jobs[0], output_dir=root / "big", texture_size=256)]
 

@@ -3,9 +3,8 @@
 Each job is painted on a worker by the call that paints it in one process
 (``core.api.paint_object``, handed in by the caller) with the job's own
 arguments, its mesh (a ``SurfaceMesh``, a tuple of arrays) and parameters
-sent with the task, on as many BLAS threads as here (their number changes
-the bytes of a texture's height, and Dask's nanny starts its workers with
-one), so its folder holds the same bytes. A job's own failure
+sent with the task, so its folder holds the same bytes (the number of
+threads changes none, BLAS's included). A job's own failure
 (a ``PaintReliefError``) is that job's, and the others are painted. A job
 stops, as ``paint_object`` stops when cancelled (nothing written), once the
 batch's Dask event (``stop_name``) is set; its worker looks at it at most
@@ -63,8 +62,7 @@ def paint_objects_on(client, paint_object: Callable, jobs: Dict[int, dict], fini
     token = secrets.token_hex(4)
     stop_name = f"paint-relief-objects-stop-{token}"
     stop = distributed.Event(stop_name, client=client)
-    threads = blas_threads()
-    futures = {client.submit(painted_object, paint_object, job, stop_name, threads,
+    futures = {client.submit(painted_object, paint_object, job, stop_name,
                              key=f"paint-relief-object-{k}-{token}", pure=False): k for k, job in jobs.items()}
     pending = set(futures)
 
@@ -102,20 +100,10 @@ def paint_objects_on(client, paint_object: Callable, jobs: Dict[int, dict], fini
         client.cancel([f for f in pending if not f.done()])
 
 
-def blas_threads() -> Optional[int]:
-    """The threads this process's BLAS libraries run on (the most of them), None when none is loaded."""
-    from threadpoolctl import threadpool_info
-
-    counts = [info["num_threads"] for info in threadpool_info() if info.get("user_api") == "blas"]
-    return max(counts) if counts else None
-
-
-def painted_object(paint_object: Callable, job: dict, stop_name: str, threads: Optional[int]):
+def painted_object(paint_object: Callable, job: dict, stop_name: str):
     """Run on a worker: ``paint_object(**job)``'s report, or the PaintReliefError it raised (returned, so that it is
-    the job's outcome), on ``threads`` BLAS threads (None: as they are); it stops (Cancelled) once the Dask event
-    ``stop_name`` is set."""
+    the job's outcome); it stops (Cancelled) once the Dask event ``stop_name`` is set."""
     import distributed
-    from threadpoolctl import threadpool_limits
 
     stop = distributed.Event(stop_name)
     seen = {"at": 0.0, "set": False}
@@ -127,8 +115,7 @@ def painted_object(paint_object: Callable, job: dict, stop_name: str, threads: O
         return seen["set"]
 
     try:
-        with threadpool_limits(limits=threads, user_api="blas"):
-            return paint_object(**job, cancel=cancel)
+        return paint_object(**job, cancel=cancel)
     except PaintReliefError as exc:
         return exc
 

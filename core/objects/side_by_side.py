@@ -324,11 +324,7 @@ def python_program() -> Optional[str]:
 
 def worker_environment() -> dict:
     """The environment of a worker: this one, with this process's path on PYTHONPATH after ``ROOT`` (so it
-    imports ``core`` as a package of its own and finds the wheels this process finds).
-
-    The threads of the numerical libraries (OpenBLAS) are left as they are here: their number changes the
-    painter's bytes (one OpenBLAS thread against two give another height.exr and strokes.json), so a worker
-    must use as many as ``paint_object`` called here would."""
+    imports ``core`` as a package of its own and finds the wheels this process finds)."""
     environment = dict(os.environ)
     paths = []
     for entry in [str(ROOT)] + [str(p) for p in sys.path if p]:
