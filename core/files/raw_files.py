@@ -21,6 +21,7 @@ temporary name, then renamed); a failure raises OutputError naming the file.
 
 from __future__ import annotations
 
+import os
 import struct
 import zlib
 from pathlib import Path
@@ -80,14 +81,17 @@ def exr_header(width: int, height: int, channels: Sequence[str], attributes: Dic
 
 
 def write_pieces(path: Path, pieces: list) -> None:
-    """Write the bytes-like ``pieces`` one after another as the file ``path`` (``atomic_path``); OutputError
-    naming it on failure."""
+    """Write the bytes-like ``pieces`` one after another as the file ``path`` (``atomic_path``), flushed to the
+    disk (the writer thread waits for the disk while the others work, and the commit's own flush finds nothing
+    left to do); OutputError naming it on failure."""
     path = Path(path)
     with atomic_path(path) as temp:
         try:
             with open(temp, "wb") as f:
                 for piece in pieces:
                     f.write(piece)
+                f.flush()
+                os.fsync(f.fileno())
         except OSError as exc:
             cause = write_failure_cause(temp) or plain_cause(exc)
             raise OutputError(f"Cannot write {path}: {cause}.", path=path, cause=cause) from exc
