@@ -218,9 +218,10 @@ print(json.dumps([[o.report and o.report["batch"], o.error and str(o.error)] for
 '''
 
 
-def test_inside_an_extension_s_package_the_workers_import_core_from_its_folder(tmp_path, alone):
-    """As inside Blender: core is a subpackage of bl_ext.user_default.paint_relief, whose __init__ imports what
-    only the program holds; the workers import core on its own from the extension's folder."""
+def held_in_an_extension(tmp_path: Path, script: str) -> list:
+    """As inside Blender: core copied into ``tmp_path``/bl_ext/user_default/paint_relief, whose __init__ imports
+    what only the program holds, and ``script`` as held.py; returns the first two ``scene_jobs`` as plain values
+    (each mesh's arrays in an .npz, "arrays", and the seed, "seed"), painted under ``tmp_path``/out."""
     extension = tmp_path / "bl_ext" / "user_default" / "paint_relief"
     shutil.copytree(Path(core.__file__).parent, extension / "core", ignore=shutil.ignore_patterns("__pycache__"))
     for package in (tmp_path / "bl_ext", tmp_path / "bl_ext" / "user_default"):
@@ -232,7 +233,14 @@ def test_inside_an_extension_s_package_the_workers_import_core_from_its_folder(t
         jobs.append({name: str(value) if isinstance(value, Path) else value for name, value in job.items()
                      if name not in ("mesh", "params")} | {"arrays": str(tmp_path / f"mesh{k}.npz"),
                                                              "seed": job["params"].seed})
-    (tmp_path / "held.py").write_text(HELD_SCRIPT)
+    (tmp_path / "held.py").write_text(script)
+    return jobs
+
+
+def test_inside_an_extension_s_package_the_workers_import_core_from_its_folder(tmp_path, alone):
+    """As inside Blender: core is a subpackage of bl_ext.user_default.paint_relief, whose __init__ imports what
+    only the program holds; the workers import core on its own from the extension's folder."""
+    jobs = held_in_an_extension(tmp_path, HELD_SCRIPT)
     environment = {name: value for name, value in os.environ.items() if name != "PYTHONPATH"}
     done = subprocess.run([sys.executable, str(tmp_path / "held.py"), json.dumps(jobs)], cwd=tmp_path,
                           env=environment, capture_output=True, text=True, timeout=300)

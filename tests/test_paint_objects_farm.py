@@ -5,7 +5,6 @@ painted whole and the others as they were."""
 import json
 import os
 import pickle
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -17,7 +16,7 @@ pytest.importorskip("distributed")
 
 from dask_cluster import hang_guard  # noqa: E402
 from oracles import folder_bytes  # noqa: E402
-from test_paint_objects import scene_jobs  # noqa: E402
+from test_paint_objects import held_in_an_extension, scene_jobs  # noqa: E402
 
 import core  # noqa: E402
 from core.errors import Cancelled, InputError  # noqa: E402
@@ -161,19 +160,8 @@ def test_inside_an_extension_s_package_the_tasks_name_core_as_the_workers_import
     """As inside Blender: core is a subpackage of bl_ext.user_default.paint_relief, a name no worker imports; the
     tasks are sent by core imported on its own from the extension's folder, and the errors come back as the
     extension's."""
-    extension = tmp_path / "bl_ext" / "user_default" / "paint_relief"
-    shutil.copytree(Path(core.__file__).parent, extension / "core", ignore=shutil.ignore_patterns("__pycache__"))
-    for package in (tmp_path / "bl_ext", tmp_path / "bl_ext" / "user_default"):
-        (package / "__init__.py").write_text("")
-    (extension / "__init__.py").write_text("import only_in_blender\n")
-    jobs = []
-    for k, job in enumerate(scene_jobs(tmp_path / "out")[:2]):
-        np.savez(tmp_path / f"mesh{k}.npz", uv=job["mesh"].uv, position=job["mesh"].position)
-        jobs.append({name: str(value) if isinstance(value, Path) else value for name, value in job.items()
-                     if name not in ("mesh", "params")} | {"arrays": str(tmp_path / f"mesh{k}.npz"),
-                                                             "seed": job["params"].seed})
+    jobs = held_in_an_extension(tmp_path, HELD_SCRIPT)
     jobs[1]["texture_path"] = str(tmp_path / "missing.png")
-    (tmp_path / "held.py").write_text(HELD_SCRIPT)
     environment = {name: value for name, value in os.environ.items() if name != "PYTHONPATH"}
     done = subprocess.run([sys.executable, str(tmp_path / "held.py"), json.dumps(jobs)], cwd=tmp_path,
                           env=environment, capture_output=True, text=True, timeout=300)
