@@ -196,13 +196,15 @@ def write_timelapse(folder, snapshots, painting: tuple, canvas_colour, orientati
     with quiet.captured(), ThreadPoolExecutor(writers) as pool:
         futures = [pool.submit(write_every, first) for first in range(writers)]
         try:
-            while not all(future.done() for future in futures):
+            while True:
                 if stage is not None:
                     stage.check()
                     stage.report(1.0, f"Time-lapse: frame {len(done)} of {count}")
-                concurrent.futures.wait(futures, timeout=WAIT_SECONDS, return_when="FIRST_EXCEPTION")
-            for future in futures:
-                future.result()
+                ended, _ = concurrent.futures.wait(futures, timeout=WAIT_SECONDS, return_when="FIRST_EXCEPTION")
+                for future in ended:
+                    future.result()                 # a writer's failure, raised here (the others stop)
+                if len(ended) == len(futures):
+                    break
         finally:
             stop.set()
     if stage is not None:
