@@ -144,7 +144,7 @@ def lay_file(strokes_path, reference_path, output_dir, progress: ProgressFn = No
     read or laid (not strict JSON, not a stroke list, another format, a stroke without laying data or whose data
     do not fit its brush) and a reference of another size than the list's are refused in one sentence naming the
     file, before anything is written; the outputs are committed all together or not at all, as ``paint_file``'s.
-    progress(fraction, message) hears the analysis and the strokes laid, after each run of them; cancel() is
+    progress(fraction, message) hears the analysis and the strokes laid, after each chunk of them; cancel() is
     polled as often, and when it returns True, Cancelled leaves ``output_dir`` as it was.
     """
     from .files.stroke_file import read_stroke_file
